@@ -1,0 +1,22 @@
+include(GoogleTest)
+
+# tocd_add_gtest(<target> LABEL <unit|integration|physics|physics-long> SOURCES <files...>
+#                [LIBS <targets...>] [TIMEOUT <seconds>])
+# One test executable carries one label; ctest discovers its cases at test time.
+# The default run (`ctest --preset dev`) runs every label except physics-long.
+function(tocd_add_gtest target)
+  cmake_parse_arguments(ARG "" "LABEL;TIMEOUT" "SOURCES;LIBS" ${ARGN})
+  if(NOT ARG_LABEL MATCHES "^(unit|integration|physics|physics-long)$")
+    message(FATAL_ERROR "tocd_add_gtest(${target}): LABEL must be unit, integration, physics or physics-long")
+  endif()
+  if(NOT ARG_TIMEOUT)
+    set(ARG_TIMEOUT 300)
+  endif()
+  add_executable(${target} ${ARG_SOURCES})
+  target_link_libraries(${target} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gmock GTest::gtest_main
+                                          tocd_warnings)
+  gtest_discover_tests(${target}
+    DISCOVERY_MODE PRE_TEST
+    PROPERTIES LABELS ${ARG_LABEL} TIMEOUT ${ARG_TIMEOUT}
+    WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
+endfunction()

@@ -1,0 +1,43 @@
+// tocdlab: the command line of the tissue-optical-clearing lab workbench.
+#include <algorithm>
+#include <exception>
+#include <iostream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "command_registry.hpp"
+#include "tocd/core/error.hpp"
+#include "tocd/core/log.hpp"
+#include "tocd/core/version.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "tocdlab — tissue optical clearing lab workbench: instruments, measurement "
+      "database, FE + Monte Carlo prediction"};
+  app.set_version_flag("-V,--version", std::string("tocdlab ") + std::string(tocd::version()));
+  app.require_subcommand(0, 1);
+  std::string log_level = "warn";
+  app.add_option("--log-level", log_level, "trace, debug, info, warn, error, critical or off")
+      ->capture_default_str();
+  // Runs after parsing, before any subcommand's callback, so commands log at the chosen level.
+  app.parse_complete_callback([&log_level] { tocd::set_log_level(log_level); });
+
+  auto& registry = tocd::cli::command_registry();
+  std::sort(registry.begin(), registry.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
+  for (const auto& entry : registry) entry.install(app);
+
+  try {
+    app.parse(argc, argv);  // subcommand callbacks run inside parse
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const tocd::Error& e) {
+    std::cerr << "tocdlab: error: " << e.what() << '\n';
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "tocdlab: internal error: " << e.what() << '\n';
+    return 2;
+  }
+  if (app.get_subcommands().empty()) std::cout << app.help();
+  return 0;
+}
