@@ -1,0 +1,45 @@
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "tocd/sim/mesh/tet_mesh.hpp"
+#include "tocd/sim/mesh/topology.hpp"
+
+namespace tocd::sim::mc {
+
+/// Where a boundary face sits on the mesh's bounding box (z is up).
+enum class Side : std::int8_t { bottom, top, sides };
+
+/// The per-tet record the transport kernel reads: one 160-byte block per tet holding the
+/// four outward face planes (n . x = offset on the face), the next tet across each face
+/// (>= 0) or the boundary group of the face (-1 - group), and the region's optics slot.
+struct alignas(32) KernelTet {
+  double nx[4], ny[4], nz[4], offset[4];
+  std::int32_t next[4];
+  std::int32_t region_slot;
+  std::int32_t pad_[3];
+};
+
+/// A class of boundary faces that photons exit through, tallied together.
+struct BoundaryGroup {
+  std::int32_t marker = 0;
+  Side side = Side::sides;
+};
+
+/// A mesh validated and laid out for transport. Build once, run many times.
+struct PreparedMesh {
+  mesh::TetMesh mesh;                        ///< the input, kept for sources and output
+  std::vector<KernelTet> tets;
+  std::vector<double> volume_mm3;            ///< per tet
+  std::vector<std::int32_t> region_ids;      ///< region id of each optics slot, ascending
+  std::vector<BoundaryGroup> groups;         ///< boundary groups referenced by KernelTet::next
+  mesh::BoundingBox box;
+};
+
+/// Validates the mesh (throws mesh::MeshError naming the tet and face) and builds the
+/// kernel layout. Boundary faces are classified bottom / top / sides against the bounding
+/// box: bottom = outward normal within 0.1 degree of -z and lying on the box's lowest z.
+PreparedMesh prepare(mesh::TetMesh mesh);
+
+}  // namespace tocd::sim::mc

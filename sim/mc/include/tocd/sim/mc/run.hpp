@@ -1,0 +1,78 @@
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <vector>
+
+#include "tocd/sim/mc/optics.hpp"
+#include "tocd/sim/mc/prepared_mesh.hpp"
+#include "tocd/sim/mc/source.hpp"
+
+namespace tocd::sim::mc {
+
+/// Settings of one run. Results depend on (photons, seed, batches) only, never on threads.
+struct RunSettings {
+  std::uint64_t photons = 100000;
+  std::uint64_t seed = 1;
+  int threads = 1;   ///< OpenMP threads (capped at `batches`)
+  int batches = 20;  ///< independent batches for standard errors (>= 2)
+  double ambient_n = 1.0;  ///< refractive index outside the mesh
+  /// Regions with mu_s at or below this (or g = 1) are ballistic: straight flight to the next
+  /// face with continuous absorption exp(-mu_a L). Scattering there is neglected.
+  double ballistic_mu_s_per_mm = 1e-3;
+  double roulette_threshold = 1e-4;  ///< packets lighter than this play Russian roulette...
+  int roulette_chance = 10;          ///< ...surviving with probability 1/chance, weight x chance
+  bool tally_per_tet = true;         ///< per-tet absorbed weight and fluence (with errors)
+  /// Checked between photons by every thread; set it to stop early (result.cancelled).
+  const std::atomic<bool>* cancel = nullptr;
+  /// Called from the master thread now and then with (photons done, photons asked).
+  std::function<void(std::uint64_t, std::uint64_t)> progress;
+};
+
+/// A mean per launched photon and its standard error from the spread of batch means.
+struct Estimate {
+  double mean = 0.0;
+  double se = 0.0;
+};
+
+/// Everything a run measures. Weights are fractions of launched weight (one per photon).
+struct Result {
+  std::uint64_t photons = 0;  ///< launched (fewer than asked when cancelled)
+  std::uint64_t seed = 0;
+  int threads = 0;
+  int batches = 0;
+  bool cancelled = false;
+
+  Estimate transmittance;  ///< exits through bottom faces (outward normal -z on the box bottom)
+  Estimate reflectance;    ///< exits through top faces after entering (entry specular excluded)
+  Estimate side_loss;      ///< exits through every other boundary face
+  Estimate specular;       ///< Fresnel reflection at entry
+  Estimate absorbed;       ///< deposited in the mesh
+  Estimate roulette_balance;  ///< weight removed by roulette minus weight added to survivors
+  Estimate missed;         ///< disk photons whose line missed the mesh (never entered)
+  Estimate lost;           ///< packets stopped by the step guard (numerically stuck); should be 0
+  std::map<std::int32_t, Estimate> exit_by_marker;      ///< exits per boundary marker (0 = none)
+  std::map<std::int32_t, Estimate> absorbed_by_region;  ///< per region id
+
+  /// Per tet (empty when tally_per_tet is off): absorbed weight and fluence
+  /// Phi = w_a / (V mu_a) in mm^-2 per launched weight (0 where mu_a = 0).
+  std::vector<double> absorbed_per_tet, absorbed_per_tet_se;
+  std::vector<double> fluence_per_tet, fluence_per_tet_se;
+
+  /// launched - (specular + exited + absorbed + roulette_balance + missed + lost), divided by
+  /// launched: zero up to round-off.
+  double energy_balance_error = 0.0;
+
+  std::uint64_t events = 0;  ///< scattering events
+  double seconds = 0.0;
+  double photons_per_second = 0.0;
+  double events_per_second = 0.0;
+};
+
+/// Runs the Monte Carlo. Throws OpticsError when a region of the mesh has no optics,
+/// SourceError when the source cannot enter the mesh, tocd::ConfigError on bad settings.
+Result run(const PreparedMesh& mesh, const Optics& optics, const Source& source, const RunSettings& settings);
+
+}  // namespace tocd::sim::mc

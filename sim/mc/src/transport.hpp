@@ -1,0 +1,192 @@
+#pragma once
+// The photon transport kernel: one packet from entry to termination. Plain data in, tallies
+// out; no virtual calls, no allocation, no exceptions, so it can be ported to a GPU as is.
+
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+
+#include "launcher.hpp"
+#include "photon_rng.hpp"
+#include "tocd/sim/mc/fresnel.hpp"
+#include "tocd/sim/mc/prepared_mesh.hpp"
+
+namespace tocd::sim::mc {
+
+/// Optical properties of one region in the form the kernel uses.
+struct KernelOptics {
+  double mu_a, mu_s, mu_t, inv_mu_t, albedo, absorb_fraction;  // absorb_fraction = mu_a/mu_t
+  double g, n;
+  int ballistic;  // straight flight with continuous absorption (mu_s ~ 0 or g = 1)
+};
+
+struct KernelSettings {
+  double ambient_n;
+  double roulette_threshold;
+  double roulette_chance;
+  std::uint64_t max_steps;  // guard against a packet that stops making progress
+  bool entry_specular;
+};
+
+/// Accumulators of one batch. The per-tet array may be null (per-tet tallies off).
+struct BatchTally {
+  double* absorbed_per_tet;
+  double* absorbed_per_region;
+  double* exit_per_group;
+  double specular = 0.0, missed = 0.0, roulette = 0.0, lost = 0.0;
+  std::uint64_t events = 0;
+};
+
+namespace detail {
+
+inline void refract(double* u, const double* m, double eta, double cos_i, double cos_t) {
+  // m: unit normal towards the transmission side, u . m = cos_i > 0.
+  const double k = cos_t - eta * cos_i;
+  for (int c = 0; c < 3; ++c) u[c] = eta * u[c] + k * m[c];
+}
+
+// Henyey-Greenstein deflection of u (MCML's formulas, Wang et al. 1995).
+inline void scatter(double* u, double g, PhotonRng& rng) {
+  double ct;
+  const double xi = rng.uniform();
+  if (g == 0.0) {
+    ct = 2.0 * xi - 1.0;
+  } else {
+    const double tmp = (1.0 - g * g) / (1.0 - g + 2.0 * g * xi);
+    ct = (1.0 + g * g - tmp * tmp) / (2.0 * g);
+    ct = ct < -1.0 ? -1.0 : (ct > 1.0 ? 1.0 : ct);
+  }
+  const double st = std::sqrt(1.0 - ct * ct);
+  const double phi = 2.0 * std::numbers::pi * rng.uniform();
+  const double cp = std::cos(phi), sp = std::sin(phi);
+  if (std::abs(u[2]) > 0.99999) {
+    u[0] = st * cp;
+    u[1] = st * sp;
+    u[2] = u[2] > 0.0 ? ct : -ct;
+    return;
+  }
+  const double tmp = std::sqrt(1.0 - u[2] * u[2]);
+  const double ux = st * (u[0] * u[2] * cp - u[1] * sp) / tmp + u[0] * ct;
+  const double uy = st * (u[1] * u[2] * cp + u[0] * sp) / tmp + u[1] * ct;
+  u[2] = -st * cp * tmp + u[2] * ct;
+  u[0] = ux;
+  u[1] = uy;
+}
+
+}  // namespace detail
+
+/// Transports one packet of weight 1 entering at `entry`, until it leaves the mesh, dies in
+/// roulette or hits the step guard. Every bit of weight ends in exactly one tally.
+inline void transport_photon(const KernelTet* tets, const KernelOptics* optics, const KernelSettings& s,
+                             const Entry& entry, PhotonRng& rng, BatchTally& tally) {
+  if (entry.tet < 0) {
+    tally.missed += 1.0;
+    return;
+  }
+  double w = 1.0;
+  double p[3] = {entry.pos[0], entry.pos[1], entry.pos[2]};
+  double u[3] = {entry.dir[0], entry.dir[1], entry.dir[2]};
+  std::int32_t tet = entry.tet;
+
+  {  // Entry through the ambient/mesh interface: deterministic specular split.
+    const KernelTet& k = tets[tet];
+    const int f = entry.face;
+    const double m[3] = {-k.nx[f], -k.ny[f], -k.nz[f]};
+    const double cos_i = u[0] * m[0] + u[1] * m[1] + u[2] * m[2];
+    const double n2 = optics[k.region_slot].n;
+    double cos_t;
+    const double r = fresnel_reflectance(s.ambient_n, n2, cos_i, cos_t);
+    if (r >= 1.0) {  // cannot enter at all (denser ambient beyond the critical angle)
+      tally.specular += 1.0;
+      return;
+    }
+    if (s.entry_specular) {
+      tally.specular += r;
+      w = 1.0 - r;
+    }
+    if (s.ambient_n != n2) detail::refract(u, m, s.ambient_n / n2, cos_i, cos_t);
+  }
+
+  double tau = -std::log(rng.uniform());  // optical depth left to the next interaction
+  for (std::uint64_t step = 0;; ++step) {
+    if (step >= s.max_steps) {
+      tally.lost += w;
+      return;
+    }
+    const KernelTet& k = tets[tet];
+    const KernelOptics& o = optics[k.region_slot];
+
+    // Distance to each face the packet moves towards; the nearest is where it leaves.
+    // Slightly negative distances (round-off puts p a hair outside) are clamped to 0.
+    double best = HUGE_VAL;
+    int face = 0;
+    for (int f = 0; f < 4; ++f) {
+      const double cosf = k.nx[f] * u[0] + k.ny[f] * u[1] + k.nz[f] * u[2];
+      const double gap = k.offset[f] - (k.nx[f] * p[0] + k.ny[f] * p[1] + k.nz[f] * p[2]);
+      double d = cosf > 0.0 ? gap / cosf : HUGE_VAL;
+      d = d < 0.0 ? 0.0 : d;
+      if (d < best) {
+        best = d;
+        face = f;
+      }
+    }
+    if (best == HUGE_VAL) {  // zero direction: cannot happen for unit u, but never loop
+      tally.lost += w;
+      return;
+    }
+
+    if (o.ballistic) {
+      const double dep = w * (1.0 - std::exp(-o.mu_a * best));
+      if (tally.absorbed_per_tet) tally.absorbed_per_tet[tet] += dep;
+      tally.absorbed_per_region[k.region_slot] += dep;
+      w -= dep;
+    } else {
+      const double to_event = tau * o.inv_mu_t;
+      if (to_event < best) {  // interaction inside this tet: absorb a fraction, scatter
+        for (int c = 0; c < 3; ++c) p[c] += to_event * u[c];
+        const double dep = w * o.absorb_fraction;
+        if (tally.absorbed_per_tet) tally.absorbed_per_tet[tet] += dep;
+        tally.absorbed_per_region[k.region_slot] += dep;
+        w -= dep;
+        ++tally.events;
+        detail::scatter(u, o.g, rng);
+        if (w < s.roulette_threshold) {
+          if (rng.uniform() * s.roulette_chance < 1.0) {
+            tally.roulette -= w * (s.roulette_chance - 1.0);
+            w *= s.roulette_chance;
+          } else {
+            tally.roulette += w;
+            return;
+          }
+        }
+        tau = -std::log(rng.uniform());
+        continue;
+      }
+      tau -= best * o.mu_t;
+    }
+
+    // Move to the face and cross it, or reflect off it.
+    for (int c = 0; c < 3; ++c) p[c] += best * u[c];
+    const std::int32_t next = k.next[face];
+    const double n1 = o.n;
+    const double n2 = next >= 0 ? optics[tets[next].region_slot].n : s.ambient_n;
+    if (n1 != n2) {
+      const double m[3] = {k.nx[face], k.ny[face], k.nz[face]};
+      const double cos_i = u[0] * m[0] + u[1] * m[1] + u[2] * m[2];
+      double cos_t;
+      const double r = fresnel_reflectance(n1, n2, cos_i, cos_t);
+      if (r >= 1.0 || rng.uniform() < r) {
+        for (int c = 0; c < 3; ++c) u[c] -= 2.0 * cos_i * m[c];
+        continue;
+      }
+      detail::refract(u, m, n1 / n2, cos_i, cos_t);
+    }
+    if (next < 0) {
+      tally.exit_per_group[-1 - next] += w;
+      return;
+    }
+    tet = next;
+  }
+}
+
+}  // namespace tocd::sim::mc

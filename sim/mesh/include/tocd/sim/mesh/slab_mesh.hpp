@@ -1,0 +1,40 @@
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "tocd/sim/mesh/tet_mesh.hpp"
+
+namespace tocd::sim::mesh {
+
+/// One horizontal layer of a slab, listed from the top down.
+struct SlabLayer {
+  double thickness_mm = 1.0;
+  std::int32_t region = 1;
+  int cells_z = 4;  ///< subdivisions through the thickness
+};
+
+/// A box slab: x in [-width/2, width/2], y in [-depth/2, depth/2], z from 0 (bottom) up to the
+/// sum of the layer thicknesses (top). Each grid cell is split into 6 tets around its main
+/// diagonal (a conforming Kuhn triangulation), so any cells_xy / cells_z gives a valid
+/// tetrahedralisation of the same slab. Boundary markers: top 1, bottom 2, sides 3.
+struct SlabSpec {
+  double width_mm = 10.0;
+  double depth_mm = 10.0;
+  std::vector<SlabLayer> layers{SlabLayer{}};
+  int cells_x = 10;
+  int cells_y = 10;
+  /// Optional rigid rotation applied after building: axis (need not be unit) and angle about
+  /// the slab's centre. Zero angle = no rotation.
+  Point3 rotation_axis{1.0, 0.0, 0.0};
+  double rotation_deg = 0.0;
+};
+
+inline constexpr std::int32_t kSlabTopMarker = 1;
+inline constexpr std::int32_t kSlabBottomMarker = 2;
+inline constexpr std::int32_t kSlabSideMarker = 3;
+
+/// Builds the slab. Throws tocd::ConfigError on non-positive sizes or cell counts.
+TetMesh make_slab(const SlabSpec& spec);
+
+}  // namespace tocd::sim::mesh

@@ -1,0 +1,159 @@
+#include "tocd/sim/mesh/tetgen_io.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "tocd/sim/mesh/mesh_error.hpp"
+
+namespace tocd::sim::mesh {
+namespace {
+
+// Reads a TetGen file as rows of numbers, skipping blank lines and '#' comments, and keeps
+// the line number of each row for error messages.
+class TableReader {
+ public:
+  explicit TableReader(const std::filesystem::path& path) : path_(path), in_(path) {
+    if (!in_) throw MeshError(fmt::format("cannot open {}", path.string()));
+  }
+
+  // Next non-empty row as numbers; false at end of file.
+  bool next(std::vector<double>& row) {
+    std::string line;
+    while (std::getline(in_, line)) {
+      ++line_no_;
+      if (const auto hash = line.find('#'); hash != std::string::npos) line.resize(hash);
+      std::istringstream ss(line);
+      row.clear();
+      std::string tok;
+      while (ss >> tok) {
+        char* end = nullptr;
+        const double v = std::strtod(tok.c_str(), &end);
+        if (end == tok.c_str() || *end != '\0') fail(fmt::format("'{}' is not a number", tok));
+        row.push_back(v);
+      }
+      if (!row.empty()) return true;
+    }
+    return false;
+  }
+
+  std::vector<double> require(std::size_t min_columns, const char* what) {
+    std::vector<double> row;
+    if (!next(row)) fail(fmt::format("file ends before {}", what));
+    if (row.size() < min_columns) fail(fmt::format("{} needs at least {} numbers, found {}", what, min_columns, row.size()));
+    return row;
+  }
+
+  [[noreturn]] void fail(const std::string& why) const {
+    throw MeshError(fmt::format("{}:{}: {}", path_.string(), line_no_, why));
+  }
+
+  std::int32_t as_index(double v, std::int64_t base, std::int64_t count, const char* what) const {
+    if (v != std::floor(v)) fail(fmt::format("{} {} is not an integer", what, v));
+    const auto i = static_cast<std::int64_t>(v) - base;
+    if (i < 0 || i >= count) fail(fmt::format("{} {} is out of range ({} items, first index {})", what, v, count, base));
+    return static_cast<std::int32_t>(i);
+  }
+
+ private:
+  std::filesystem::path path_;
+  std::ifstream in_;
+  int line_no_ = 0;
+};
+
+std::filesystem::path with_ext(const std::filesystem::path& prefix, const char* ext) {
+  return std::filesystem::path(prefix.string() + ext);
+}
+
+}  // namespace
+
+TetMesh read_tetgen(const std::filesystem::path& prefix) {
+  TetMesh mesh;
+  std::int64_t base = 0;
+  {
+    TableReader r(with_ext(prefix, ".node"));
+    const auto head = r.require(1, "the .node header");
+    const auto count = static_cast<std::int64_t>(head[0]);
+    if (head.size() > 1 && head[1] != 3) r.fail(fmt::format("dimension {} given, only 3 is supported", head[1]));
+    mesh.nodes.resize(static_cast<std::size_t>(count));
+    for (std::int64_t i = 0; i < count; ++i) {
+      const auto row = r.require(4, "a node row (index x y z)");
+      if (i == 0) base = static_cast<std::int64_t>(row[0]);
+      if (base != 0 && base != 1) r.fail("node indices must start at 0 or 1");
+      const auto idx = r.as_index(row[0], base, count, "node index");
+      mesh.nodes[static_cast<std::size_t>(idx)] = {row[1], row[2], row[3]};
+    }
+  }
+  const auto nn = static_cast<std::int64_t>(mesh.nodes.size());
+  {
+    TableReader r(with_ext(prefix, ".ele"));
+    const auto head = r.require(2, "the .ele header (count nodes-per-tet [attributes])");
+    const auto count = static_cast<std::int64_t>(head[0]);
+    const int per_tet = static_cast<int>(head[1]);
+    const int attrs = head.size() > 2 ? static_cast<int>(head[2]) : 0;
+    if (per_tet != 4 && per_tet != 10) r.fail(fmt::format("{} nodes per tet; expected 4 or 10", per_tet));
+    mesh.tets.resize(static_cast<std::size_t>(count));
+    mesh.regions.assign(static_cast<std::size_t>(count), 0);
+    for (std::int64_t i = 0; i < count; ++i) {
+      const auto row = r.require(static_cast<std::size_t>(1 + per_tet + attrs), "a tet row");
+      const auto t = static_cast<std::size_t>(r.as_index(row[0], base, count, "tet index"));
+      for (int k = 0; k < 4; ++k) mesh.tets[t][k] = r.as_index(row[1 + k], base, nn, "node");
+      if (attrs > 0) {
+        const double region = row[1 + per_tet];
+        if (region != std::floor(region)) r.fail(fmt::format("region attribute {} is not an integer", region));
+        mesh.regions[t] = static_cast<std::int32_t>(region);
+      }
+    }
+  }
+  if (std::filesystem::exists(with_ext(prefix, ".face"))) {
+    TableReader r(with_ext(prefix, ".face"));
+    const auto head = r.require(1, "the .face header (count [markers])");
+    const auto count = static_cast<std::int64_t>(head[0]);
+    const bool markers = head.size() > 1 && head[1] != 0;
+    mesh.boundary_faces.resize(static_cast<std::size_t>(count));
+    for (std::int64_t i = 0; i < count; ++i) {
+      const auto row = r.require(markers ? 5 : 4, "a face row (index a b c [marker])");
+      auto& face = mesh.boundary_faces[static_cast<std::size_t>(i)];
+      for (int k = 0; k < 3; ++k) face.nodes[k] = r.as_index(row[1 + k], base, nn, "node");
+      face.marker = markers ? static_cast<std::int32_t>(row[4]) : 0;
+    }
+  }
+  return mesh;
+}
+
+void write_tetgen(const TetMesh& mesh, const std::filesystem::path& prefix) {
+  auto open = [&](const char* ext) {
+    std::ofstream out(with_ext(prefix, ext));
+    if (!out) throw MeshError(fmt::format("cannot write {}", with_ext(prefix, ext).string()));
+    return out;
+  };
+  {
+    auto out = open(".node");
+    out << mesh.nodes.size() << " 3 0 0\n";
+    for (std::size_t i = 0; i < mesh.nodes.size(); ++i) {
+      const auto& p = mesh.nodes[i];
+      out << fmt::format("{} {:.17g} {:.17g} {:.17g}\n", i, p[0], p[1], p[2]);
+    }
+  }
+  {
+    auto out = open(".ele");
+    out << mesh.tets.size() << " 4 1\n";
+    for (std::size_t i = 0; i < mesh.tets.size(); ++i) {
+      const auto& t = mesh.tets[i];
+      out << fmt::format("{} {} {} {} {} {}\n", i, t[0], t[1], t[2], t[3], mesh.regions[i]);
+    }
+  }
+  auto out = open(".face");
+  out << mesh.boundary_faces.size() << " 1\n";
+  for (std::size_t i = 0; i < mesh.boundary_faces.size(); ++i) {
+    const auto& f = mesh.boundary_faces[i];
+    out << fmt::format("{} {} {} {} {}\n", i, f.nodes[0], f.nodes[1], f.nodes[2], f.marker);
+  }
+  if (!out) throw MeshError(fmt::format("error writing {}", with_ext(prefix, ".face").string()));
+}
+
+}  // namespace tocd::sim::mesh
