@@ -25,7 +25,10 @@ void frame(const V3& d, V3& e1, V3& e2) {
   e1 = normalised(cross(d, helper));
   e2 = cross(d, e1);
 }
-V3 node(const PreparedMesh& m, std::int32_t tet, int local) { return m.mesh.nodes[m.mesh.tets[tet][local]]; }
+// Node `local` of kernel tet `tet` (kernel records keep the input tet's local numbering).
+V3 node(const PreparedMesh& m, std::int32_t tet, int local) {
+  return m.mesh.nodes[m.mesh.tets[static_cast<std::size_t>(m.original_of[static_cast<std::size_t>(tet)])][local]];
+}
 
 }  // namespace
 

@@ -17,7 +17,7 @@ class PhotonRng {
   }
 
   /// Uniform in the open interval (0, 1): (k + 0.5) / 2^32, never 0 so log() is safe.
-  double uniform() noexcept {
+  [[gnu::always_inline]] double uniform() noexcept {
     if (used_ == 4) {
       block_ = r123::Philox4x32()(ctr_, key_);
       ++ctr_.v[2];

@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
+#include "tocd/sim/mesh/mesh_error.hpp"
+
 namespace tocd::sim::mc {
 namespace {
 
@@ -24,6 +28,41 @@ Side classify(const mesh::TetMesh& m, const std::array<std::int32_t, 4>& tet, in
   return Side::sides;
 }
 
+// Interleaves the low 21 bits of x, y, z.
+std::uint64_t morton(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+  auto spread = [](std::uint64_t v) {
+    v &= 0x1fffff;
+    v = (v | v << 32) & 0x1f00000000ffffULL;
+    v = (v | v << 16) & 0x1f0000ff0000ffULL;
+    v = (v | v << 8) & 0x100f00f00f00f00fULL;
+    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+    v = (v | v << 2) & 0x1249249249249249ULL;
+    return v;
+  };
+  return spread(x) | spread(y) << 1 | spread(z) << 2;
+}
+
+// Kernel order: by Morton code of the centroid, ties by input index (deterministic).
+std::vector<std::int32_t> locality_order(const mesh::TetMesh& m, const mesh::BoundingBox& box) {
+  const std::size_t nt = m.tets.size();
+  std::vector<std::pair<std::uint64_t, std::int32_t>> keyed(nt);
+  for (std::size_t t = 0; t < nt; ++t) {
+    std::uint32_t q[3];
+    for (int k = 0; k < 3; ++k) {
+      double c = 0.0;
+      for (int v = 0; v < 4; ++v) c += 0.25 * m.nodes[m.tets[t][v]][k];
+      const double span = box.max[k] - box.min[k];
+      const double unit = span > 0.0 ? (c - box.min[k]) / span : 0.0;
+      q[k] = static_cast<std::uint32_t>(std::clamp(unit, 0.0, 1.0) * 2097151.0);
+    }
+    keyed[t] = {morton(q[0], q[1], q[2]), static_cast<std::int32_t>(t)};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<std::int32_t> order(nt);
+  for (std::size_t i = 0; i < nt; ++i) order[i] = keyed[i].second;
+  return order;
+}
+
 }  // namespace
 
 PreparedMesh prepare(mesh::TetMesh input) {
@@ -37,11 +76,23 @@ PreparedMesh prepare(mesh::TetMesh input) {
   std::sort(p.region_ids.begin(), p.region_ids.end());
   p.region_ids.erase(std::unique(p.region_ids.begin(), p.region_ids.end()), p.region_ids.end());
 
+  if (p.region_ids.size() > 32767) {
+    throw mesh::MeshError(fmt::format("mesh has {} distinct regions; at most 32767 are supported", p.region_ids.size()));
+  }
+  auto slot_of = [&](std::int32_t region) {
+    return static_cast<std::int32_t>(std::lower_bound(p.region_ids.begin(), p.region_ids.end(), region) -
+                                     p.region_ids.begin());
+  };
   const std::size_t nt = m.tets.size();
+  p.original_of = locality_order(m, p.box);
+  std::vector<std::int32_t> kernel_of(nt);
+  for (std::size_t i = 0; i < nt; ++i) kernel_of[static_cast<std::size_t>(p.original_of[i])] = static_cast<std::int32_t>(i);
   p.tets.resize(nt);
   p.volume_mm3.resize(nt);
-  for (std::size_t t = 0; t < nt; ++t) {
-    KernelTet& k = p.tets[t];
+  for (std::size_t t = 0; t < nt; ++t) p.volume_mm3[t] = mesh::tet_volume(m, t);
+  for (std::size_t kt = 0; kt < nt; ++kt) {
+    const auto t = static_cast<std::size_t>(p.original_of[kt]);
+    KernelTet& k = p.tets[kt];
     const auto planes = mesh::face_planes(m, t);
     for (int f = 0; f < 4; ++f) {
       k.nx[f] = planes[f].normal[0];
@@ -49,19 +100,19 @@ PreparedMesh prepare(mesh::TetMesh input) {
       k.nz[f] = planes[f].normal[2];
       k.offset[f] = planes[f].offset;
       if (adj.neighbour[t][f] >= 0) {
-        k.next[f] = adj.neighbour[t][f];
+        k.next[f] = kernel_of[static_cast<std::size_t>(adj.neighbour[t][f])];
+        k.next_slot[f] = static_cast<std::int16_t>(slot_of(m.regions[static_cast<std::size_t>(adj.neighbour[t][f])]));
         continue;
       }
+      k.next_slot[f] = -1;
       const BoundaryGroup g{adj.boundary_marker[t][f], classify(m, m.tets[t], f, planes[f], p.box)};
       auto it = std::find_if(p.groups.begin(), p.groups.end(),
                              [&](const BoundaryGroup& x) { return x.marker == g.marker && x.side == g.side; });
       if (it == p.groups.end()) it = p.groups.insert(p.groups.end(), g);
       k.next[f] = -1 - static_cast<std::int32_t>(it - p.groups.begin());
     }
-    k.region_slot = static_cast<std::int32_t>(
-        std::lower_bound(p.region_ids.begin(), p.region_ids.end(), m.regions[t]) - p.region_ids.begin());
-    k.pad_[0] = k.pad_[1] = k.pad_[2] = 0;
-    p.volume_mm3[t] = mesh::tet_volume(m, t);
+    k.region_slot = slot_of(m.regions[t]);
+    k.pad_ = 0;
   }
   return p;
 }

@@ -192,11 +192,12 @@ Result run(const PreparedMesh& mesh, const Optics& optics, const Source& source,
     res.absorbed_per_tet_se.resize(nt);
     res.fluence_per_tet.assign(nt, 0.0);
     res.fluence_per_tet_se.assign(nt, 0.0);
-    for (std::size_t t = 0; t < nt; ++t) {
-      const Estimate e = per_tet[t].estimate(launched, batches_done);
+    for (std::size_t kt = 0; kt < nt; ++kt) {  // kernel order -> input order
+      const auto t = static_cast<std::size_t>(mesh.original_of[kt]);
+      const Estimate e = per_tet[kt].estimate(launched, batches_done);
       res.absorbed_per_tet[t] = e.mean;
       res.absorbed_per_tet_se[t] = e.se;
-      const double mu_a = kopt[static_cast<std::size_t>(mesh.tets[t].region_slot)].mu_a;
+      const double mu_a = kopt[static_cast<std::size_t>(mesh.tets[kt].region_slot)].mu_a;
       if (mu_a > 0.0) {
         res.fluence_per_tet[t] = e.mean / (mesh.volume_mm3[t] * mu_a);
         res.fluence_per_tet_se[t] = e.se / (mesh.volume_mm3[t] * mu_a);

@@ -13,12 +13,15 @@ enum class Side : std::int8_t { bottom, top, sides };
 
 /// The per-tet record the transport kernel reads: one 160-byte block per tet holding the
 /// four outward face planes (n . x = offset on the face), the next tet across each face
-/// (>= 0) or the boundary group of the face (-1 - group), and the region's optics slot.
+/// (>= 0) or the boundary group of the face (-1 - group), the region's optics slot, and the
+/// optics slot of each neighbour (so a crossing needs no load from the next tet to decide
+/// whether the refractive index changes; -1 on the boundary).
 struct alignas(32) KernelTet {
   double nx[4], ny[4], nz[4], offset[4];
   std::int32_t next[4];
   std::int32_t region_slot;
-  std::int32_t pad_[3];
+  std::int16_t next_slot[4];
+  std::int32_t pad_;
 };
 
 /// A class of boundary faces that photons exit through, tallied together.
@@ -30,8 +33,11 @@ struct BoundaryGroup {
 /// A mesh validated and laid out for transport. Build once, run many times.
 struct PreparedMesh {
   mesh::TetMesh mesh;                        ///< the input, kept for sources and output
+  /// Kernel records in kernel order: tets sorted along a Morton (Z-order) curve of their
+  /// centroids, so neighbours sit close in memory. Results are reported in input order.
   std::vector<KernelTet> tets;
-  std::vector<double> volume_mm3;            ///< per tet
+  std::vector<std::int32_t> original_of;     ///< kernel index -> input tet index
+  std::vector<double> volume_mm3;            ///< per input tet
   std::vector<std::int32_t> region_ids;      ///< region id of each optics slot, ascending
   std::vector<BoundaryGroup> groups;         ///< boundary groups referenced by KernelTet::next
   mesh::BoundingBox box;
