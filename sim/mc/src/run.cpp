@@ -60,7 +60,7 @@ std::vector<KernelOptics> kernel_optics(const PreparedMesh& mesh, const Optics& 
     const auto it = optics.regions.find(id);
     if (it == optics.regions.end()) {
       const auto count = std::count(mesh.mesh.regions.begin(), mesh.mesh.regions.end(), id);
-      throw OpticsError(fmt::format("region {} ({} tets) has no optical properties in the optics", id, count));
+      throw OpticsError(fmt::format("region {} ({} tets) has no optical properties: add a [region.{}] table to the optics", id, count, id));
     }
     const RegionOptics& r = it->second;
     KernelOptics k{};

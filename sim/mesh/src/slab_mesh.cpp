@@ -1,6 +1,9 @@
 #include "tocd/sim/mesh/slab_mesh.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <string>
 #include <numbers>
 
 #include <fmt/format.h>
@@ -38,7 +41,65 @@ void rotate(TetMesh& mesh, Point3 axis, double degrees, const Point3& centre) {
   }
 }
 
+double parse_mm(const std::string& tok, const std::string& whole) {
+  char* end = nullptr;
+  const double v = std::strtod(tok.c_str(), &end);
+  if (tok.empty() || *end != '\0' || !(v > 0.0)) {
+    throw tocd::ConfigError(fmt::format("slab '{}': '{}' is not a positive length in mm", whole, tok));
+  }
+  return v;
+}
+
 }  // namespace
+
+SlabSpec parse_slab_spec(const std::string& text, int cells_across) {
+  if (cells_across < 1) throw tocd::ConfigError("slab cells across must be >= 1");
+  SlabSpec spec;
+  spec.cells_x = spec.cells_y = cells_across;
+  const auto colon = text.find(':');
+  const std::string size = text.substr(0, colon);
+  std::vector<std::string> dims;
+  for (std::size_t pos = 0;;) {
+    const auto x = size.find('x', pos);
+    dims.push_back(size.substr(pos, x - pos));
+    if (x == std::string::npos) break;
+    pos = x + 1;
+  }
+  const std::size_t want = colon == std::string::npos ? 3 : 2;
+  if (dims.size() != want) {
+    throw tocd::ConfigError(fmt::format("slab '{}': expected WxDxT or WxD:T1@R1,T2@R2,... (mm)", text));
+  }
+  spec.width_mm = parse_mm(dims[0], text);
+  spec.depth_mm = parse_mm(dims[1], text);
+  spec.layers.clear();
+  const double cell_mm = std::min(spec.width_mm, spec.depth_mm) / cells_across;
+  auto layer = [&](double thickness, std::int32_t region) {
+    const int cz = std::max(2, static_cast<int>(std::ceil(thickness / cell_mm - 1e-9)));
+    spec.layers.push_back({thickness, region, cz});
+  };
+  if (colon == std::string::npos) {
+    layer(parse_mm(dims[2], text), 1);
+    return spec;
+  }
+  const std::string rest = text.substr(colon + 1);
+  for (std::size_t pos = 0; pos <= rest.size();) {
+    const auto comma = std::min(rest.find(',', pos), rest.size());
+    const std::string item = rest.substr(pos, comma - pos);
+    const auto at = item.find('@');
+    if (at == std::string::npos) {
+      throw tocd::ConfigError(fmt::format("slab '{}': layer '{}' must be THICKNESS@REGION", text, item));
+    }
+    char* end = nullptr;
+    const std::string region_text = item.substr(at + 1);
+    const long region = std::strtol(region_text.c_str(), &end, 10);
+    if (region_text.empty() || *end != '\0') {
+      throw tocd::ConfigError(fmt::format("slab '{}': region '{}' is not an integer", text, region_text));
+    }
+    layer(parse_mm(item.substr(0, at), text), static_cast<std::int32_t>(region));
+    pos = comma + 1;
+  }
+  return spec;
+}
 
 TetMesh make_slab(const SlabSpec& spec) {
   check_spec(spec);

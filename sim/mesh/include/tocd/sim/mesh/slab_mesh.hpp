@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "tocd/sim/mesh/tet_mesh.hpp"
@@ -33,6 +34,11 @@ struct SlabSpec {
 inline constexpr std::int32_t kSlabTopMarker = 1;
 inline constexpr std::int32_t kSlabBottomMarker = 2;
 inline constexpr std::int32_t kSlabSideMarker = 3;
+
+/// Parses "WxDxT" (one layer of region 1) or "WxD:T1@R1,T2@R2,..." (layers from the top
+/// down, thickness in mm @ region id), all in mm. `cells_across` sets cells_x = cells_y; each
+/// layer gets about cubic cells in z (at least 2). Throws tocd::ConfigError naming the text.
+SlabSpec parse_slab_spec(const std::string& text, int cells_across = 20);
 
 /// Builds the slab. Throws tocd::ConfigError on non-positive sizes or cell counts.
 TetMesh make_slab(const SlabSpec& spec);
