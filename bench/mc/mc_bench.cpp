@@ -54,10 +54,11 @@ void bench(const char* name, const msh::SlabSpec& spec, std::uint64_t photons, i
   mc::run(mesh, optics(), beam, s);  // warm-up: page in the mesh, settle the clocks
   s.photons = photons;
   const mc::Result r = mc::run(mesh, optics(), beam, s);
-  std::printf("%-28s tets %7zu threads %d photons %9llu  %8.0f photons/s  %6.2f Mevents/s  %5.1f events/photon  "
+  std::printf("%-28s tets %7zu threads %d photons %9llu  %8.0f photons/s  %6.2f Mevents/s  %5.1f events/photon %5.1f faces/photon  "
               "T %.5f R %.5f side %.5f  (%.2f s)\n",
               name, mesh.tets.size(), threads, static_cast<unsigned long long>(r.photons), r.photons_per_second,
               r.events_per_second * 1e-6, static_cast<double>(r.events) / static_cast<double>(r.photons),
+              static_cast<double>(r.face_hits) / static_cast<double>(r.photons),
               r.transmittance.mean, r.reflectance.mean, r.side_loss.mean, r.seconds);
   std::fflush(stdout);
 }

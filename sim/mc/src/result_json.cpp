@@ -26,6 +26,7 @@ nlohmann::json to_json(const Result& r) {
   for (const auto& [id, e] : r.absorbed_by_region) regions[std::to_string(id)] = estimate(e);
   j["energy_balance_error"] = r.energy_balance_error;
   j["events"] = r.events;
+  j["face_hits"] = r.face_hits;
   j["seconds"] = r.seconds;
   j["photons_per_second"] = r.photons_per_second;
   j["events_per_second"] = r.events_per_second;

@@ -19,7 +19,8 @@ namespace {
 
 // Tallies of one batch, owned by one wave slot.
 struct BatchStore {
-  std::vector<double> per_tet, per_region, per_group;
+  std::vector<double, HugePageAllocator<double>> per_tet;  // randomly hit: huge pages
+  std::vector<double> per_region, per_group;
   BatchTally tally{};
   std::uint64_t photons = 0;
 
@@ -112,7 +113,7 @@ Result run(const PreparedMesh& mesh, const Optics& optics, const Source& source,
   std::vector<BatchStore> slots(static_cast<std::size_t>(threads));
   std::atomic<std::uint64_t> done{0};
   std::atomic<bool> stop{false};
-  std::uint64_t launched = 0, events = 0;
+  std::uint64_t launched = 0, events = 0, face_hits = 0;
   int batches_done = 0;
 
   const std::int64_t t0 = tocd::monotonic_ns();
@@ -162,6 +163,7 @@ Result run(const PreparedMesh& mesh, const Optics& optics, const Source& source,
       for (const auto& [marker, w] : marker_sum) by_marker[marker].add(w, b.photons);
       launched += b.photons;
       events += b.tally.events;
+      face_hits += b.tally.face_hits;
       ++batches_done;
     }
     if (settings.progress) settings.progress(launched, n);
@@ -211,6 +213,7 @@ Result run(const PreparedMesh& mesh, const Optics& optics, const Source& source,
   }
   res.seconds = seconds;
   res.events = events;
+  res.face_hits = face_hits;
   res.photons_per_second = seconds > 0 ? static_cast<double>(launched) / seconds : 0.0;
   res.events_per_second = seconds > 0 ? static_cast<double>(events) / seconds : 0.0;
   return res;

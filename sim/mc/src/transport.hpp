@@ -35,6 +35,7 @@ struct BatchTally {
   double* exit_per_group;
   double specular = 0.0, missed = 0.0, roulette = 0.0, lost = 0.0;
   std::uint64_t events = 0;
+  std::uint64_t face_hits = 0;
 };
 
 namespace detail {
@@ -121,7 +122,7 @@ inline void transport_photon(const KernelTet* tets, const KernelOptics* optics, 
   double* const absorbed_per_tet = tally.absorbed_per_tet;
   double* const absorbed_per_region = tally.absorbed_per_region;
   double roulette = 0.0;
-  std::uint64_t events = 0;
+  std::uint64_t events = 0, face_hits = 0;
   auto deposit = [&](std::int32_t t, std::int32_t slot, double dep) {
     if (absorbed_per_tet) absorbed_per_tet[t] += dep;
     absorbed_per_region[slot] += dep;
@@ -129,6 +130,7 @@ inline void transport_photon(const KernelTet* tets, const KernelOptics* optics, 
   auto finish = [&]() {
     tally.roulette += roulette;
     tally.events += events;
+    tally.face_hits += face_hits;
   };
 
   double tau = -std::log(rng.uniform());  // optical depth left to the next interaction
@@ -214,6 +216,7 @@ inline void transport_photon(const KernelTet* tets, const KernelOptics* optics, 
     }
 
     // Move to the face and cross it, or reflect off it.
+    ++face_hits;
     for (int c = 0; c < 3; ++c) p[c] += best * u[c];
     const std::int32_t next = k.next[face];
     const double n1 = o.n;

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "tocd/sim/mc/huge_page_allocator.hpp"
 #include "tocd/sim/mesh/tet_mesh.hpp"
 #include "tocd/sim/mesh/topology.hpp"
 
@@ -35,7 +36,7 @@ struct PreparedMesh {
   mesh::TetMesh mesh;                        ///< the input, kept for sources and output
   /// Kernel records in kernel order: tets sorted along a Morton (Z-order) curve of their
   /// centroids, so neighbours sit close in memory. Results are reported in input order.
-  std::vector<KernelTet> tets;
+  std::vector<KernelTet, HugePageAllocator<KernelTet>> tets;
   std::vector<std::int32_t> original_of;     ///< kernel index -> input tet index
   std::vector<double> volume_mm3;            ///< per input tet
   std::vector<std::int32_t> region_ids;      ///< region id of each optics slot, ascending

@@ -66,6 +66,7 @@ struct Result {
   double energy_balance_error = 0.0;
 
   std::uint64_t events = 0;  ///< scattering events
+  std::uint64_t face_hits = 0;  ///< packet arrivals at a tet face (crossings and reflections)
   double seconds = 0.0;
   double photons_per_second = 0.0;
   double events_per_second = 0.0;
