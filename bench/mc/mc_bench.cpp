@@ -50,16 +50,18 @@ void bench(const char* name, const msh::SlabSpec& spec, std::uint64_t photons, i
   s.photons = photons / 10;
   s.threads = threads;
   s.batches = 20;
-  s.tally_per_tet = true;
+  s.tally_per_tet = std::getenv("MC_NO_TET_TALLY") == nullptr;
   mc::run(mesh, optics(), beam, s);  // warm-up: page in the mesh, settle the clocks
   s.photons = photons;
   const mc::Result r = mc::run(mesh, optics(), beam, s);
-  std::printf("%-28s tets %7zu threads %d photons %9llu  %8.0f photons/s  %6.2f Mevents/s  %5.1f events/photon %5.1f faces/photon  "
-              "T %.5f R %.5f side %.5f  (%.2f s)\n",
-              name, mesh.tets.size(), threads, static_cast<unsigned long long>(r.photons), r.photons_per_second,
-              r.events_per_second * 1e-6, static_cast<double>(r.events) / static_cast<double>(r.photons),
-              static_cast<double>(r.face_hits) / static_cast<double>(r.photons),
-              r.transmittance.mean, r.reflectance.mean, r.side_loss.mean, r.seconds);
+  std::printf(
+      "%-28s tets %7zu threads %d photons %9llu  %8.0f photons/s  %6.2f Mevents/s  %5.1f events/photon %5.1f "
+      "faces/photon  "
+      "T %.5f R %.5f side %.5f  (%.2f s)\n",
+      name, mesh.tets.size(), threads, static_cast<unsigned long long>(r.photons), r.photons_per_second,
+      r.events_per_second * 1e-6, static_cast<double>(r.events) / static_cast<double>(r.photons),
+      static_cast<double>(r.face_hits) / static_cast<double>(r.photons), r.transmittance.mean,
+      r.reflectance.mean, r.side_loss.mean, r.seconds);
   std::fflush(stdout);
 }
 
@@ -69,9 +71,12 @@ int main(int argc, char** argv) {
   std::uint64_t photons = 1'000'000;
   int max_threads = 2, cells = 20;
   for (int i = 1; i + 1 < argc; i += 2) {
-    if (!std::strcmp(argv[i], "--photons")) photons = std::strtoull(argv[i + 1], nullptr, 10);
-    else if (!std::strcmp(argv[i], "--threads")) max_threads = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--cells")) cells = std::atoi(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--photons"))
+      photons = std::strtoull(argv[i + 1], nullptr, 10);
+    else if (!std::strcmp(argv[i], "--threads"))
+      max_threads = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--cells"))
+      cells = std::atoi(argv[i + 1]);
     else {
       std::fprintf(stderr, "usage: mc_bench [--photons N] [--threads N] [--cells N]\n");
       return 2;

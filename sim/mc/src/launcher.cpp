@@ -10,7 +10,9 @@ namespace tocd::sim::mc {
 namespace {
 
 using V3 = std::array<double, 3>;
-double dot(const V3& a, const V3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+double dot(const V3& a, const V3& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 V3 cross(const V3& a, const V3& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
@@ -27,7 +29,8 @@ void frame(const V3& d, V3& e1, V3& e2) {
 }
 // Node `local` of kernel tet `tet` (kernel records keep the input tet's local numbering).
 V3 node(const PreparedMesh& m, std::int32_t tet, int local) {
-  return m.mesh.nodes[m.mesh.tets[static_cast<std::size_t>(m.original_of[static_cast<std::size_t>(tet)])][local]];
+  return m.mesh
+      .nodes[m.mesh.tets[static_cast<std::size_t>(m.original_of[static_cast<std::size_t>(tet)])][local]];
 }
 
 }  // namespace
@@ -37,10 +40,13 @@ BoundaryLocator::BoundaryLocator(const PreparedMesh& mesh, const V3& unit_dir) :
   umin_ = vmin_ = HUGE_VAL;
   double umax = -HUGE_VAL, vmax = -HUGE_VAL;
   for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-    const KernelTet& k = mesh.tets[t];
+    const KernelLink& link = mesh.links[t];
+    if (link.next[0] >= 0 && link.next[1] >= 0 && link.next[2] >= 0 && link.next[3] >= 0) continue;
+    const auto planes = mesh::face_planes(mesh.mesh, static_cast<std::size_t>(mesh.original_of[t]));
     for (int f = 0; f < 4; ++f) {
-      if (k.next[f] >= 0 || k.nx[f] * d_[0] + k.ny[f] * d_[1] + k.nz[f] * d_[2] > -1e-12) continue;
-      Face face{static_cast<std::int32_t>(t), f, {}, {}};
+      if (link.next[f] >= 0 || dot(planes[f].normal, d_) > -1e-12) continue;
+      Face face{static_cast<std::int32_t>(t), f, {}, {}, {}, planes[f].offset};
+      std::copy(planes[f].normal.begin(), planes[f].normal.end(), face.normal);
       for (int v = 0; v < 3; ++v) {
         const V3 p = node(mesh, face.tet, mesh::kFaceLocalNodes[f][v]);
         face.u[v] = dot(p, e1_);
@@ -73,8 +79,10 @@ BoundaryLocator::BoundaryLocator(const PreparedMesh& mesh, const V3& unit_dir) :
       for (int j = j0; j <= j1; ++j)
         for (int i = i0; i <= i1; ++i) {
           const std::size_t c = static_cast<std::size_t>(j) * nu_ + i;
-          if (pass == 0) ++start_[c + 1];
-          else items_[fill[c]++] = static_cast<std::int32_t>(k);
+          if (pass == 0)
+            ++start_[c + 1];
+          else
+            items_[fill[c]++] = static_cast<std::int32_t>(k);
         }
     }
     if (pass == 0) {
@@ -90,7 +98,8 @@ Entry BoundaryLocator::locate(const V3& o) const {
   const double pu = dot(o, e1_), pv = dot(o, e2_);
   const double gu = (pu - umin_) / hu_, gv = (pv - vmin_) / hv_;
   if (gu < -1e-9 || gv < -1e-9 || gu > nu_ + 1e-9 || gv > nv_ + 1e-9) return best;
-  const int i = std::clamp(static_cast<int>(gu), 0, nu_ - 1), j = std::clamp(static_cast<int>(gv), 0, nv_ - 1);
+  const int i = std::clamp(static_cast<int>(gu), 0, nu_ - 1),
+            j = std::clamp(static_cast<int>(gv), 0, nv_ - 1);
   const std::size_t c = static_cast<std::size_t>(j) * nu_ + i;
   double best_s = HUGE_VAL;
   for (std::size_t k = start_[c]; k < start_[c + 1]; ++k) {
@@ -102,9 +111,8 @@ Entry BoundaryLocator::locate(const V3& o) const {
     const double b2 = ((f.u[1] - f.u[0]) * (pv - f.v[0]) - (pu - f.u[0]) * (f.v[1] - f.v[0])) / det;
     constexpr double kTol = 1e-12;
     if (b1 < -kTol || b2 < -kTol || b1 + b2 > 1.0 + kTol) continue;
-    const KernelTet& kt = mesh_.tets[static_cast<std::size_t>(f.tet)];
-    const double nd = kt.nx[f.face] * d_[0] + kt.ny[f.face] * d_[1] + kt.nz[f.face] * d_[2];
-    const double s = (kt.offset[f.face] - (kt.nx[f.face] * o[0] + kt.ny[f.face] * o[1] + kt.nz[f.face] * o[2])) / nd;
+    const double nd = f.normal[0] * d_[0] + f.normal[1] * d_[1] + f.normal[2] * d_[2];
+    const double s = (f.offset - (f.normal[0] * o[0] + f.normal[1] * o[1] + f.normal[2] * o[2])) / nd;
     if (s < best_s) {
       best_s = s;
       best.tet = f.tet;
@@ -129,28 +137,36 @@ Launcher::Launcher(const PreparedMesh& mesh, const Source& source) : mesh_(mesh)
     case Source::Kind::pencil: {
       pencil_ = BoundaryLocator(mesh, dir_).locate(source.origin);
       if (pencil_.tet < 0) {
-        throw SourceError(fmt::format("source outside the mesh: the pencil beam through ({}, {}, {}) along ({}, {}, {}) "
-                                      "does not meet it",
-                                      source.origin[0], source.origin[1], source.origin[2], dir_[0], dir_[1], dir_[2]));
+        throw SourceError(
+            fmt::format("source outside the mesh: the pencil beam through ({}, {}, {}) along ({}, {}, {}) "
+                        "does not meet it",
+                        source.origin[0], source.origin[1], source.origin[2], dir_[0], dir_[1], dir_[2]));
       }
       break;
     }
     case Source::Kind::disk: {
-      if (!(source.radius_mm > 0.0)) throw SourceError(fmt::format("disk radius {} mm must be > 0", source.radius_mm));
+      if (!(source.radius_mm > 0.0))
+        throw SourceError(fmt::format("disk radius {} mm must be > 0", source.radius_mm));
       locator_.emplace_back(mesh, dir_);
       if (locator_.front().locate(source.origin).tet < 0) {
-        throw SourceError(fmt::format("source outside the mesh: the disk centred at ({}, {}, {}) does not face it",
-                                      source.origin[0], source.origin[1], source.origin[2]));
+        throw SourceError(
+            fmt::format("source outside the mesh: the disk centred at ({}, {}, {}) does not face it",
+                        source.origin[0], source.origin[1], source.origin[2]));
       }
       break;
     }
     case Source::Kind::marker: {
       double total = 0.0;
       for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-        const KernelTet& k = mesh.tets[t];
+        const KernelLink& link = mesh.links[t];
         for (int f = 0; f < 4; ++f) {
-          if (k.next[f] >= 0 || mesh.groups[static_cast<std::size_t>(-1 - k.next[f])].marker != source.marker) continue;
-          MarkerFace mf{static_cast<std::int32_t>(t), f, {}, {}, {}};
+          if (link.next[f] >= 0 ||
+              mesh.groups[static_cast<std::size_t>(-1 - link.next[f])].marker != source.marker) {
+            continue;
+          }
+          const auto planes = mesh::face_planes(mesh.mesh, static_cast<std::size_t>(mesh.original_of[t]));
+          MarkerFace mf{static_cast<std::int32_t>(t), f, {}, {}, {}, {}};
+          for (int c = 0; c < 3; ++c) mf.inward[c] = -planes[f].normal[c];
           const auto& l = mesh::kFaceLocalNodes[f];
           const V3 a = node(mesh, mf.tet, l[0]), b = node(mesh, mf.tet, l[1]), c = node(mesh, mf.tet, l[2]);
           std::copy(a.begin(), a.end(), mf.a);
@@ -160,7 +176,7 @@ Launcher::Launcher(const PreparedMesh& mesh, const Source& source) : mesh_(mesh)
           const V3 cr = cross(ab, ac);
           double area = 0.5 * std::sqrt(dot(cr, cr));
           if (source.marker_uses_direction) {
-            const double cos_in = -(k.nx[f] * dir_[0] + k.ny[f] * dir_[1] + k.nz[f] * dir_[2]);
+            const double cos_in = -dot(planes[f].normal, dir_);
             if (cos_in <= 0.0) continue;  // face turned away from the beam
             area *= cos_in;
           }
@@ -170,7 +186,8 @@ Launcher::Launcher(const PreparedMesh& mesh, const Source& source) : mesh_(mesh)
         }
       }
       if (marker_faces_.empty() || !(total > 0.0)) {
-        throw SourceError(fmt::format("source outside the mesh: no boundary face carries marker {}{}", source.marker,
+        throw SourceError(fmt::format("source outside the mesh: no boundary face carries marker {}{}",
+                                      source.marker,
                                       source.marker_uses_direction ? " and faces the beam" : ""));
       }
       for (auto& c : marker_cdf_) c /= total;
@@ -194,9 +211,9 @@ Entry Launcher::sample(PhotonRng& rng) const {
     case Source::Kind::marker:
     default: {
       const double pick = rng.uniform();
-      const auto idx = static_cast<std::size_t>(
-          std::min<std::ptrdiff_t>(std::lower_bound(marker_cdf_.begin(), marker_cdf_.end(), pick) - marker_cdf_.begin(),
-                                   static_cast<std::ptrdiff_t>(marker_cdf_.size()) - 1));
+      const auto idx = static_cast<std::size_t>(std::min<std::ptrdiff_t>(
+          std::lower_bound(marker_cdf_.begin(), marker_cdf_.end(), pick) - marker_cdf_.begin(),
+          static_cast<std::ptrdiff_t>(marker_cdf_.size()) - 1));
       const MarkerFace& f = marker_faces_[idx];
       // Uniform point in the triangle.
       const double s = std::sqrt(rng.uniform()), r2 = rng.uniform();
@@ -204,11 +221,9 @@ Entry Launcher::sample(PhotonRng& rng) const {
       Entry e;
       e.tet = f.tet;
       e.face = f.face;
-      const KernelTet& k = mesh_.tets[static_cast<std::size_t>(f.tet)];
-      const V3 inward{-k.nx[f.face], -k.ny[f.face], -k.nz[f.face]};
       for (int c = 0; c < 3; ++c) {
         e.pos[c] = wa * f.a[c] + wb * f.b[c] + wc * f.c[c];
-        e.dir[c] = source_.marker_uses_direction ? dir_[c] : inward[c];
+        e.dir[c] = source_.marker_uses_direction ? dir_[c] : f.inward[c];
       }
       return e;
     }

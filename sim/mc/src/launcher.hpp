@@ -30,6 +30,7 @@ class BoundaryLocator {
   struct Face {
     std::int32_t tet, face;
     double u[3], v[3];  // projected corners
+    double normal[3], offset;
   };
   const PreparedMesh& mesh_;
   std::array<double, 3> d_{}, e1_{}, e2_{};
@@ -56,6 +57,7 @@ class Launcher {
   struct MarkerFace {
     std::int32_t tet, face;
     double a[3], b[3], c[3];
+    double inward[3];
   };
   std::vector<MarkerFace> marker_faces_;
   std::vector<double> marker_cdf_;

@@ -18,8 +18,10 @@ void validate(const Optics& optics, const std::string& where) {
     auto bad = [&](const char* key, double v, const char* rule) {
       throw OpticsError(fmt::format("{}: region {}: {} = {} {}", where, id, key, v, rule));
     };
-    if (!(r.mu_a_per_mm >= 0.0) || !std::isfinite(r.mu_a_per_mm)) bad("mu_a", r.mu_a_per_mm, "must be finite and >= 0");
-    if (!(r.mu_s_per_mm >= 0.0) || !std::isfinite(r.mu_s_per_mm)) bad("mu_s", r.mu_s_per_mm, "must be finite and >= 0");
+    if (!(r.mu_a_per_mm >= 0.0) || !std::isfinite(r.mu_a_per_mm))
+      bad("mu_a", r.mu_a_per_mm, "must be finite and >= 0");
+    if (!(r.mu_s_per_mm >= 0.0) || !std::isfinite(r.mu_s_per_mm))
+      bad("mu_s", r.mu_s_per_mm, "must be finite and >= 0");
     if (!(r.g > -1.0 && r.g <= 1.0)) bad("g", r.g, "must lie in (-1, 1] (1 = no deflection)");
     if (!(r.n > 0.0) || !std::isfinite(r.n)) bad("n", r.n, "must be finite and > 0");
   }
@@ -66,8 +68,8 @@ Optics parse_optics_toml(const std::string& text, const std::string& name) {
     for (const auto& [k, v] : *tbl) {
       const auto ks = k.str();
       if (ks != "mu_a" && ks != "mu_s" && ks != "g" && ks != "n" && ks != "name") {
-        throw OpticsError(fmt::format("{}: [region.{}] has unknown key '{}' (expected mu_a, mu_s, g, n, name)", name,
-                                      id_text, ks));
+        throw OpticsError(fmt::format(
+            "{}: [region.{}] has unknown key '{}' (expected mu_a, mu_s, g, n, name)", name, id_text, ks));
       }
     }
     optics.regions[static_cast<std::int32_t>(id)] = r;

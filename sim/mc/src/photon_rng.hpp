@@ -16,14 +16,19 @@ class PhotonRng {
     ctr_ = {{static_cast<std::uint32_t>(photon), static_cast<std::uint32_t>(photon >> 32), 0u, 0u}};
   }
 
-  /// Uniform in the open interval (0, 1): (k + 0.5) / 2^32, never 0 so log() is safe.
-  [[gnu::always_inline]] double uniform() noexcept {
+  /// One raw 32-bit draw.
+  [[gnu::always_inline]] std::uint32_t bits() noexcept {
     if (used_ == 4) {
       block_ = r123::Philox4x32()(ctr_, key_);
       ++ctr_.v[2];
       used_ = 0;
     }
-    return (static_cast<double>(block_.v[used_++]) + 0.5) * (1.0 / 4294967296.0);
+    return block_.v[used_++];
+  }
+
+  /// Uniform in the open interval (0, 1): (k + 0.5) / 2^32, never 0 so log() is safe.
+  [[gnu::always_inline]] double uniform() noexcept {
+    return (static_cast<double>(bits()) + 0.5) * (1.0 / 4294967296.0);
   }
 
  private:

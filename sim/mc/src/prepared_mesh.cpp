@@ -10,8 +10,8 @@
 namespace tocd::sim::mc {
 namespace {
 
-Side classify(const mesh::TetMesh& m, const std::array<std::int32_t, 4>& tet, int face, const mesh::FacePlane& plane,
-              const mesh::BoundingBox& box) {
+Side classify(const mesh::TetMesh& m, const std::array<std::int32_t, 4>& tet, int face,
+              const mesh::FacePlane& plane, const mesh::BoundingBox& box) {
   const double diag = std::hypot(box.max[0] - box.min[0], box.max[1] - box.min[1], box.max[2] - box.min[2]);
   const double tol = 1e-9 * diag;
   const auto& l = mesh::kFaceLocalNodes[face];
@@ -71,13 +71,15 @@ PreparedMesh prepare(mesh::TetMesh input) {
   const auto& m = p.mesh;
   const mesh::FaceAdjacency adj = mesh::validate(m);
   p.box = mesh::bounding_box(m);
+  for (int k = 0; k < 3; ++k) p.origin[k] = 0.5 * (p.box.min[k] + p.box.max[k]);
 
   p.region_ids = m.regions;
   std::sort(p.region_ids.begin(), p.region_ids.end());
   p.region_ids.erase(std::unique(p.region_ids.begin(), p.region_ids.end()), p.region_ids.end());
 
   if (p.region_ids.size() > 32767) {
-    throw mesh::MeshError(fmt::format("mesh has {} distinct regions; at most 32767 are supported", p.region_ids.size()));
+    throw mesh::MeshError(
+        fmt::format("mesh has {} distinct regions; at most 32767 are supported", p.region_ids.size()));
   }
   auto slot_of = [&](std::int32_t region) {
     return static_cast<std::int32_t>(std::lower_bound(p.region_ids.begin(), p.region_ids.end(), region) -
@@ -86,33 +88,41 @@ PreparedMesh prepare(mesh::TetMesh input) {
   const std::size_t nt = m.tets.size();
   p.original_of = locality_order(m, p.box);
   std::vector<std::int32_t> kernel_of(nt);
-  for (std::size_t i = 0; i < nt; ++i) kernel_of[static_cast<std::size_t>(p.original_of[i])] = static_cast<std::int32_t>(i);
+  for (std::size_t i = 0; i < nt; ++i)
+    kernel_of[static_cast<std::size_t>(p.original_of[i])] = static_cast<std::int32_t>(i);
   p.tets.resize(nt);
+  p.links.resize(nt);
   p.volume_mm3.resize(nt);
   for (std::size_t t = 0; t < nt; ++t) p.volume_mm3[t] = mesh::tet_volume(m, t);
   for (std::size_t kt = 0; kt < nt; ++kt) {
     const auto t = static_cast<std::size_t>(p.original_of[kt]);
     KernelTet& k = p.tets[kt];
+    KernelLink& link = p.links[kt];
     const auto planes = mesh::face_planes(m, t);
     for (int f = 0; f < 4; ++f) {
-      k.nx[f] = planes[f].normal[0];
-      k.ny[f] = planes[f].normal[1];
-      k.nz[f] = planes[f].normal[2];
-      k.offset[f] = planes[f].offset;
+      k.nx[f] = static_cast<float>(planes[f].normal[0]);
+      k.ny[f] = static_cast<float>(planes[f].normal[1]);
+      k.nz[f] = static_cast<float>(planes[f].normal[2]);
+      // Offset relative to the kernel origin, computed in double before rounding.
+      const double shift = planes[f].normal[0] * p.origin[0] + planes[f].normal[1] * p.origin[1] +
+                           planes[f].normal[2] * p.origin[2];
+      k.offset[f] = static_cast<float>(planes[f].offset - shift);
       if (adj.neighbour[t][f] >= 0) {
-        k.next[f] = kernel_of[static_cast<std::size_t>(adj.neighbour[t][f])];
-        k.next_slot[f] = static_cast<std::int16_t>(slot_of(m.regions[static_cast<std::size_t>(adj.neighbour[t][f])]));
+        link.next[f] = kernel_of[static_cast<std::size_t>(adj.neighbour[t][f])];
+        link.next_slot[f] =
+            static_cast<std::int16_t>(slot_of(m.regions[static_cast<std::size_t>(adj.neighbour[t][f])]));
         continue;
       }
-      k.next_slot[f] = -1;
+      link.next_slot[f] = -1;
       const BoundaryGroup g{adj.boundary_marker[t][f], classify(m, m.tets[t], f, planes[f], p.box)};
-      auto it = std::find_if(p.groups.begin(), p.groups.end(),
-                             [&](const BoundaryGroup& x) { return x.marker == g.marker && x.side == g.side; });
+      auto it = std::find_if(p.groups.begin(), p.groups.end(), [&](const BoundaryGroup& x) {
+        return x.marker == g.marker && x.side == g.side;
+      });
       if (it == p.groups.end()) it = p.groups.insert(p.groups.end(), g);
-      k.next[f] = -1 - static_cast<std::int32_t>(it - p.groups.begin());
+      link.next[f] = -1 - static_cast<std::int32_t>(it - p.groups.begin());
     }
-    k.region_slot = slot_of(m.regions[t]);
-    k.pad_ = 0;
+    link.region_slot = static_cast<std::int16_t>(slot_of(m.regions[t]));
+    link.pad_[0] = link.pad_[1] = link.pad_[2] = 0;
   }
   return p;
 }

@@ -2,7 +2,9 @@
 
 namespace tocd::sim::mc {
 namespace {
-nlohmann::json estimate(const Estimate& e) { return {{"mean", e.mean}, {"se", e.se}}; }
+nlohmann::json estimate(const Estimate& e) {
+  return {{"mean", e.mean}, {"se", e.se}};
+}
 }  // namespace
 
 nlohmann::json to_json(const Result& r) {

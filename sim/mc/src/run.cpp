@@ -54,14 +54,17 @@ struct Accumulator {
   }
 };
 
-std::vector<KernelOptics> kernel_optics(const PreparedMesh& mesh, const Optics& optics, const RunSettings& s) {
+std::vector<KernelOptics> kernel_optics(const PreparedMesh& mesh, const Optics& optics,
+                                        const RunSettings& s) {
   validate(optics);
   std::vector<KernelOptics> out;
   for (const auto id : mesh.region_ids) {
     const auto it = optics.regions.find(id);
     if (it == optics.regions.end()) {
       const auto count = std::count(mesh.mesh.regions.begin(), mesh.mesh.regions.end(), id);
-      throw OpticsError(fmt::format("region {} ({} tets) has no optical properties: add a [region.{}] table to the optics", id, count, id));
+      throw OpticsError(
+          fmt::format("region {} ({} tets) has no optical properties: add a [region.{}] table to the optics",
+                      id, count, id));
     }
     const RegionOptics& r = it->second;
     KernelOptics k{};
@@ -81,7 +84,8 @@ std::vector<KernelOptics> kernel_optics(const PreparedMesh& mesh, const Optics& 
 
 void check_settings(const RunSettings& s) {
   if (s.photons == 0) throw tocd::ConfigError("photons must be > 0");
-  if (s.batches < 2) throw tocd::ConfigError(fmt::format("batches = {} must be >= 2 for standard errors", s.batches));
+  if (s.batches < 2)
+    throw tocd::ConfigError(fmt::format("batches = {} must be >= 2 for standard errors", s.batches));
   if (static_cast<std::uint64_t>(s.batches) > s.photons) throw tocd::ConfigError("more batches than photons");
   if (s.threads < 1) throw tocd::ConfigError(fmt::format("threads = {} must be >= 1", s.threads));
   if (!(s.ambient_n > 0.0)) throw tocd::ConfigError(fmt::format("ambient_n = {} must be > 0", s.ambient_n));
@@ -92,19 +96,26 @@ void check_settings(const RunSettings& s) {
 
 }  // namespace
 
-Result run(const PreparedMesh& mesh, const Optics& optics, const Source& source, const RunSettings& settings) {
+Result run(const PreparedMesh& mesh, const Optics& optics, const Source& source,
+           const RunSettings& settings) {
   check_settings(settings);
   const std::vector<KernelOptics> kopt = kernel_optics(mesh, optics, settings);
   const Launcher launcher(mesh, source);
-  const KernelSettings ks{settings.ambient_n, settings.roulette_threshold, static_cast<double>(settings.roulette_chance),
-                          std::uint64_t{100'000'000}, source.entry_specular};
+  const KernelSettings ks{settings.ambient_n,
+                          settings.roulette_threshold,
+                          static_cast<double>(settings.roulette_chance),
+                          std::uint64_t{10'000'000},
+                          source.entry_specular,
+                          {mesh.origin[0], mesh.origin[1], mesh.origin[2]}};
 
   const std::size_t nt = settings.tally_per_tet ? mesh.tets.size() : 0;
   const std::size_t nr = kopt.size(), ng = mesh.groups.size();
   const int batches = settings.batches;
   const int threads = std::min(settings.threads, batches);
   const std::uint64_t n = settings.photons;
-  auto batch_begin = [&](int b) { return n * static_cast<std::uint64_t>(b) / static_cast<std::uint64_t>(batches); };
+  auto batch_begin = [&](int b) {
+    return n * static_cast<std::uint64_t>(b) / static_cast<std::uint64_t>(batches);
+  };
 
   Accumulator specular, missed, roulette, lost, bottom, top, sides, absorbed;
   std::map<std::int32_t, Accumulator> by_marker;
@@ -133,7 +144,7 @@ Result run(const PreparedMesh& mesh, const Optics& optics, const Source& source,
         }
         PhotonRng rng(settings.seed, photon);
         const Entry entry = launcher.sample(rng);
-        transport_photon(mesh.tets.data(), kopt.data(), ks, entry, rng, slot.tally);
+        transport_photon(mesh.tets.data(), mesh.links.data(), kopt.data(), ks, entry, rng, slot.tally);
         ++slot.photons;
       }
     }
@@ -185,7 +196,8 @@ Result run(const PreparedMesh& mesh, const Optics& optics, const Source& source,
   res.reflectance = top.estimate(launched, batches_done);
   res.side_loss = sides.estimate(launched, batches_done);
   res.absorbed = absorbed.estimate(launched, batches_done);
-  for (const auto& [marker, acc] : by_marker) res.exit_by_marker[marker] = acc.estimate(launched, batches_done);
+  for (const auto& [marker, acc] : by_marker)
+    res.exit_by_marker[marker] = acc.estimate(launched, batches_done);
   for (std::size_t r = 0; r < nr; ++r) {
     res.absorbed_by_region[mesh.region_ids[r]] = per_region[r].estimate(launched, batches_done);
   }
@@ -199,7 +211,7 @@ Result run(const PreparedMesh& mesh, const Optics& optics, const Source& source,
       const Estimate e = per_tet[kt].estimate(launched, batches_done);
       res.absorbed_per_tet[t] = e.mean;
       res.absorbed_per_tet_se[t] = e.se;
-      const double mu_a = kopt[static_cast<std::size_t>(mesh.tets[kt].region_slot)].mu_a;
+      const double mu_a = kopt[static_cast<std::size_t>(mesh.links[kt].region_slot)].mu_a;
       if (mu_a > 0.0) {
         res.fluence_per_tet[t] = e.mean / (mesh.volume_mm3[t] * mu_a);
         res.fluence_per_tet_se[t] = e.se / (mesh.volume_mm3[t] * mu_a);
@@ -207,8 +219,8 @@ Result run(const PreparedMesh& mesh, const Optics& optics, const Source& source,
     }
   }
   if (launched > 0) {
-    const double accounted = specular.sum + bottom.sum + top.sum + sides.sum + absorbed.sum + roulette.sum +
-                             missed.sum + lost.sum;
+    const double accounted =
+        specular.sum + bottom.sum + top.sum + sides.sum + absorbed.sum + roulette.sum + missed.sum + lost.sum;
     res.energy_balance_error = (static_cast<double>(launched) - accounted) / static_cast<double>(launched);
   }
   res.seconds = seconds;

@@ -14,12 +14,14 @@ void write_fluence_vtu(const PreparedMesh& mesh, const Result& result, const std
   std::ofstream out(path);
   if (!out) throw tocd::Error(fmt::format("cannot write {}", path.string()));
   out << "<?xml version=\"1.0\"?>\n"
-         "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+         "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+         "header_type=\"UInt64\">\n"
          "<UnstructuredGrid>\n";
   out << fmt::format("<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", m.nodes.size(), m.tets.size());
   out << "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
   for (const auto& p : m.nodes) out << fmt::format("{:.9g} {:.9g} {:.9g}\n", p[0], p[1], p[2]);
-  out << "</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+  out << "</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" "
+         "format=\"ascii\">\n";
   for (const auto& t : m.tets) out << fmt::format("{} {} {} {}\n", t[0], t[1], t[2], t[3]);
   out << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
   for (std::size_t i = 1; i <= m.tets.size(); ++i) out << 4 * i << (i % 16 == 0 ? '\n' : ' ');
@@ -31,7 +33,8 @@ void write_fluence_vtu(const PreparedMesh& mesh, const Result& result, const std
   out << "\n</DataArray>\n";
   auto doubles = [&](const char* name, const std::vector<double>& v) {
     out << fmt::format("<DataArray type=\"Float64\" Name=\"{}\" format=\"ascii\">\n", name);
-    for (std::size_t i = 0; i < v.size(); ++i) out << fmt::format("{:.9g}{}", v[i], (i + 1) % 8 == 0 ? '\n' : ' ');
+    for (std::size_t i = 0; i < v.size(); ++i)
+      out << fmt::format("{:.9g}{}", v[i], (i + 1) % 8 == 0 ? '\n' : ' ');
     out << "\n</DataArray>\n";
   };
   doubles("fluence", result.fluence_per_tet);

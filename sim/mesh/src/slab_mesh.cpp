@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <string>
 #include <numbers>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -16,13 +16,15 @@ namespace {
 
 void check_spec(const SlabSpec& s) {
   if (!(s.width_mm > 0.0) || !(s.depth_mm > 0.0)) {
-    throw tocd::ConfigError(fmt::format("slab width and depth must be positive (got {} x {} mm)", s.width_mm, s.depth_mm));
+    throw tocd::ConfigError(
+        fmt::format("slab width and depth must be positive (got {} x {} mm)", s.width_mm, s.depth_mm));
   }
   if (s.cells_x < 1 || s.cells_y < 1) throw tocd::ConfigError("slab needs at least one cell in x and y");
   if (s.layers.empty()) throw tocd::ConfigError("slab needs at least one layer");
   for (std::size_t i = 0; i < s.layers.size(); ++i) {
     if (!(s.layers[i].thickness_mm > 0.0) || s.layers[i].cells_z < 1) {
-      throw tocd::ConfigError(fmt::format("slab layer {} needs a positive thickness and at least one cell in z", i));
+      throw tocd::ConfigError(
+          fmt::format("slab layer {} needs a positive thickness and at least one cell in z", i));
     }
   }
 }
@@ -35,7 +37,8 @@ void rotate(TetMesh& mesh, Point3 axis, double degrees, const Point3& centre) {
   for (auto& p : mesh.nodes) {
     const Point3 v{p[0] - centre[0], p[1] - centre[1], p[2] - centre[2]};
     const double kd = axis[0] * v[0] + axis[1] * v[1] + axis[2] * v[2];
-    const Point3 kx{axis[1] * v[2] - axis[2] * v[1], axis[2] * v[0] - axis[0] * v[2], axis[0] * v[1] - axis[1] * v[0]};
+    const Point3 kx{axis[1] * v[2] - axis[2] * v[1], axis[2] * v[0] - axis[0] * v[2],
+                    axis[0] * v[1] - axis[1] * v[0]};
     // Rodrigues' formula.
     for (int k = 0; k < 3; ++k) p[k] = centre[k] + v[k] * c + kx[k] * s + axis[k] * kd * (1.0 - c);
   }
@@ -121,7 +124,9 @@ TetMesh make_slab(const SlabSpec& spec) {
       for (int i = 0; i <= nx; ++i)
         mesh.nodes.push_back({-0.5 * spec.width_mm + spec.width_mm * i / nx,
                               -0.5 * spec.depth_mm + spec.depth_mm * j / ny, z[static_cast<std::size_t>(k)]});
-  auto node = [&](int i, int j, int k) { return static_cast<std::int32_t>((k * (ny + 1) + j) * (nx + 1) + i); };
+  auto node = [&](int i, int j, int k) {
+    return static_cast<std::int32_t>((k * (ny + 1) + j) * (nx + 1) + i);
+  };
 
   // Kuhn triangulation: the 6 monotone paths from corner 0 to corner 7 of each cell. Every
   // cell uses the same diagonal direction, which makes neighbouring cells share faces.
@@ -138,7 +143,8 @@ TetMesh make_slab(const SlabSpec& spec) {
             ++c[order[s]];
             tet[s + 1] = node(c[0], c[1], c[2]);
           }
-          if (signed_volume(mesh.nodes[tet[0]], mesh.nodes[tet[1]], mesh.nodes[tet[2]], mesh.nodes[tet[3]]) < 0.0) {
+          if (signed_volume(mesh.nodes[tet[0]], mesh.nodes[tet[1]], mesh.nodes[tet[2]], mesh.nodes[tet[3]]) <
+              0.0) {
             std::swap(tet[2], tet[3]);
           }
           mesh.tets.push_back(tet);
@@ -153,11 +159,13 @@ TetMesh make_slab(const SlabSpec& spec) {
       if (adj.neighbour[t][f] >= 0) continue;
       const auto& l = kFaceLocalNodes[f];
       const double nz_out = planes[f].normal[2];
-      const std::int32_t marker = nz_out > 0.5 ? kSlabTopMarker : (nz_out < -0.5 ? kSlabBottomMarker : kSlabSideMarker);
+      const std::int32_t marker =
+          nz_out > 0.5 ? kSlabTopMarker : (nz_out < -0.5 ? kSlabBottomMarker : kSlabSideMarker);
       mesh.boundary_faces.push_back({{mesh.tets[t][l[0]], mesh.tets[t][l[1]], mesh.tets[t][l[2]]}, marker});
     }
   }
-  if (spec.rotation_deg != 0.0) rotate(mesh, spec.rotation_axis, spec.rotation_deg, {0.0, 0.0, 0.5 * z.back()});
+  if (spec.rotation_deg != 0.0)
+    rotate(mesh, spec.rotation_axis, spec.rotation_deg, {0.0, 0.0, 0.5 * z.back()});
   return mesh;
 }
 

@@ -44,7 +44,8 @@ class TableReader {
   std::vector<double> require(std::size_t min_columns, const char* what) {
     std::vector<double> row;
     if (!next(row)) fail(fmt::format("file ends before {}", what));
-    if (row.size() < min_columns) fail(fmt::format("{} needs at least {} numbers, found {}", what, min_columns, row.size()));
+    if (row.size() < min_columns)
+      fail(fmt::format("{} needs at least {} numbers, found {}", what, min_columns, row.size()));
     return row;
   }
 
@@ -55,7 +56,8 @@ class TableReader {
   std::int32_t as_index(double v, std::int64_t base, std::int64_t count, const char* what) const {
     if (v != std::floor(v)) fail(fmt::format("{} {} is not an integer", what, v));
     const auto i = static_cast<std::int64_t>(v) - base;
-    if (i < 0 || i >= count) fail(fmt::format("{} {} is out of range ({} items, first index {})", what, v, count, base));
+    if (i < 0 || i >= count)
+      fail(fmt::format("{} {} is out of range ({} items, first index {})", what, v, count, base));
     return static_cast<std::int32_t>(i);
   }
 
@@ -78,7 +80,8 @@ TetMesh read_tetgen(const std::filesystem::path& prefix) {
     TableReader r(with_ext(prefix, ".node"));
     const auto head = r.require(1, "the .node header");
     const auto count = static_cast<std::int64_t>(head[0]);
-    if (head.size() > 1 && head[1] != 3) r.fail(fmt::format("dimension {} given, only 3 is supported", head[1]));
+    if (head.size() > 1 && head[1] != 3)
+      r.fail(fmt::format("dimension {} given, only 3 is supported", head[1]));
     mesh.nodes.resize(static_cast<std::size_t>(count));
     for (std::int64_t i = 0; i < count; ++i) {
       const auto row = r.require(4, "a node row (index x y z)");
@@ -104,7 +107,8 @@ TetMesh read_tetgen(const std::filesystem::path& prefix) {
       for (int k = 0; k < 4; ++k) mesh.tets[t][k] = r.as_index(row[1 + k], base, nn, "node");
       if (attrs > 0) {
         const double region = row[1 + per_tet];
-        if (region != std::floor(region)) r.fail(fmt::format("region attribute {} is not an integer", region));
+        if (region != std::floor(region))
+          r.fail(fmt::format("region attribute {} is not an integer", region));
         mesh.regions[t] = static_cast<std::int32_t>(region);
       }
     }

@@ -23,11 +23,15 @@ std::array<std::int32_t, 3> sorted(std::array<std::int32_t, 3> n) {
   return n;
 }
 
-Point3 sub(const Point3& a, const Point3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Point3 sub(const Point3& a, const Point3& b) {
+  return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
 Point3 cross(const Point3& a, const Point3& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
-double dot(const Point3& a, const Point3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+double dot(const Point3& a, const Point3& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 
 }  // namespace
 
@@ -51,11 +55,11 @@ FaceAdjacency build_face_adjacency(const TetMesh& mesh) {
     std::size_t j = i + 1;
     while (j < keys.size() && keys[j].nodes == keys[i].nodes) ++j;
     if (j - i > 2) {
-      throw MeshError(fmt::format("non-manifold mesh: face ({} {} {}) of tet {} (local face {}) is shared by {} tets "
-                                  "(tets {}, {}, {}...)",
-                                  keys[i].nodes[0], keys[i].nodes[1], keys[i].nodes[2], keys[i].owner / 4,
-                                  keys[i].owner % 4, j - i, keys[i].owner / 4, keys[i + 1].owner / 4,
-                                  keys[i + 2].owner / 4));
+      throw MeshError(fmt::format(
+          "non-manifold mesh: face ({} {} {}) of tet {} (local face {}) is shared by {} tets "
+          "(tets {}, {}, {}...)",
+          keys[i].nodes[0], keys[i].nodes[1], keys[i].nodes[2], keys[i].owner / 4, keys[i].owner % 4, j - i,
+          keys[i].owner / 4, keys[i + 1].owner / 4, keys[i + 2].owner / 4));
     }
     if (j - i == 2) {
       const auto a = keys[i].owner, b = keys[i + 1].owner;
@@ -72,8 +76,8 @@ FaceAdjacency build_face_adjacency(const TetMesh& mesh) {
     const FaceKey probe{sorted(bf.nodes), -1};
     auto it = std::lower_bound(keys.begin(), keys.end(), FaceKey{probe.nodes, std::int64_t{-1} << 62});
     if (it == keys.end() || it->nodes != probe.nodes) {
-      throw MeshError(fmt::format("boundary face {} (nodes {} {} {}) is not a face of any tet", k, bf.nodes[0],
-                                  bf.nodes[1], bf.nodes[2]));
+      throw MeshError(fmt::format("boundary face {} (nodes {} {} {}) is not a face of any tet", k,
+                                  bf.nodes[0], bf.nodes[1], bf.nodes[2]));
     }
     const auto o = it->owner;
     if (adj.neighbour[o / 4][o % 4] < 0) adj.boundary_marker[o / 4][o % 4] = bf.marker;

@@ -11,7 +11,8 @@ namespace tocd::sim::mesh {
 namespace {
 
 double distance(const Point3& a, const Point3& b) {
-  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                   (a[2] - b[2]) * (a[2] - b[2]));
 }
 
 void check_indices_and_volumes(const TetMesh& mesh) {
@@ -29,12 +30,13 @@ void check_indices_and_volumes(const TetMesh& mesh) {
     }
     double longest = 0.0;
     for (int a = 0; a < 4; ++a)
-      for (int b = a + 1; b < 4; ++b) longest = std::max(longest, distance(mesh.nodes[tet[a]], mesh.nodes[tet[b]]));
+      for (int b = a + 1; b < 4; ++b)
+        longest = std::max(longest, distance(mesh.nodes[tet[a]], mesh.nodes[tet[b]]));
     const double v = tet_volume(mesh, t);
     // A regular tet of edge L has volume 0.118 L^3; 1e-9 L^3 is a sliver no ray test survives.
     if (v <= 1e-9 * longest * longest * longest) {
-      throw MeshError(fmt::format("tet {} (nodes {} {} {} {}) is {} (signed volume {:.3g} mm^3)", t, tet[0], tet[1],
-                                  tet[2], tet[3], v < 0.0 ? "inverted" : "degenerate", v));
+      throw MeshError(fmt::format("tet {} (nodes {} {} {} {}) is {} (signed volume {:.3g} mm^3)", t, tet[0],
+                                  tet[1], tet[2], tet[3], v < 0.0 ? "inverted" : "degenerate", v));
     }
   }
 }
@@ -58,8 +60,10 @@ class TetGrid {
           for (int j = lo[1]; j <= hi[1]; ++j)
             for (int k = lo[2]; k <= hi[2]; ++k) {
               const std::size_t c = index(i, j, k);
-              if (pass == 0) ++start_[c + 1];
-              else items_[fill[c]++] = static_cast<std::int32_t>(t);
+              if (pass == 0)
+                ++start_[c + 1];
+              else
+                items_[fill[c]++] = static_cast<std::int32_t>(t);
             }
       }
       if (pass == 0) {
@@ -137,9 +141,10 @@ void check_conforming(const TetMesh& mesh, const FaceAdjacency& adj) {
       for (int k = 0; k < 3; ++k) probe[k] = centroid[k] + eps * planes[f].normal[k];
       const auto other = grid.find_strictly_containing(probe, 1e-7 * size, t);
       if (other >= 0) {
-        throw MeshError(fmt::format("non-conforming mesh: face {} of tet {} (nodes {} {} {}) lies against tet {} "
-                                    "without sharing its nodes (hanging node or overlapping tets)",
-                                    f, t, mesh.tets[t][l[0]], mesh.tets[t][l[1]], mesh.tets[t][l[2]], other));
+        throw MeshError(
+            fmt::format("non-conforming mesh: face {} of tet {} (nodes {} {} {}) lies against tet {} "
+                        "without sharing its nodes (hanging node or overlapping tets)",
+                        f, t, mesh.tets[t][l[0]], mesh.tets[t][l[1]], mesh.tets[t][l[2]], other));
       }
     }
   }

@@ -10,7 +10,9 @@
 
 namespace tocd::sim::mc::testing {
 
-inline RegionOptics props(double mu_a, double mu_s, double g, double n) { return {mu_a, mu_s, g, n, ""}; }
+inline RegionOptics props(double mu_a, double mu_s, double g, double n) {
+  return {mu_a, mu_s, g, n, ""};
+}
 
 /// One-region slab, `width` wide, `cells_xy` cells across and `cells_z` through.
 inline PreparedMesh slab(double width_mm, double thickness_mm, int cells_xy = 4, int cells_z = 2,

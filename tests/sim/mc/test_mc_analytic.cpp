@@ -1,10 +1,10 @@
 // Non-scattering slabs against closed-form multiple-reflection results, and total internal
 // reflection. With mu_s = 0 the only randomness is the Fresnel reflect/transmit choice at
 // internal faces, so the tolerance is 4 standard errors of the run (false-alarm rate ~1e-4).
-#include <gtest/gtest.h>
-
 #include <cmath>
 #include <numbers>
+
+#include <gtest/gtest.h>
 
 #include "slab_fixture.hpp"
 #include "tocd/sim/mc/fresnel.hpp"
@@ -40,16 +40,17 @@ void check_glass(double theta0_deg) {
   constexpr double kN = 1.5, kMuA = 0.5, kD = 1.0;
   const Analytic ref = glass_slab(kN, kMuA, kD, theta0_deg);
   const mc::PreparedMesh mesh = slab(20.0, kD, 5, 3);
-  const mc::Result r =
-      mc::run(mesh, one_region(props(kMuA, 0.0, 0.0, kN)), pencil(theta0_deg, 0.0123, -0.0217, kD), settings(200000 * kScale));
+  const mc::Result r = mc::run(mesh, one_region(props(kMuA, 0.0, 0.0, kN)),
+                               pencil(theta0_deg, 0.0123, -0.0217, kD), settings(200000 * kScale));
   EXPECT_NEAR(r.specular.mean, ref.r, 1e-12);
   EXPECT_NEAR(r.transmittance.mean, ref.tt, 4.0 * r.transmittance.se + 1e-9) << "theta " << theta0_deg;
   EXPECT_NEAR(r.reflectance.mean, ref.rd, 4.0 * r.reflectance.se + 1e-9) << "theta " << theta0_deg;
   EXPECT_GT(r.transmittance.se, 0.0);
   EXPECT_EQ(r.events, 0u);  // ballistic: no scattering events
   EXPECT_NEAR(r.energy_balance_error, 0.0, 1e-9);
-  std::printf("glass slab %4.1f deg: Tt %.6f +- %.6f (analytic %.6f), Rd %.6f +- %.6f (analytic %.6f)\n", theta0_deg,
-              r.transmittance.mean, r.transmittance.se, ref.tt, r.reflectance.mean, r.reflectance.se, ref.rd);
+  std::printf("glass slab %4.1f deg: Tt %.6f +- %.6f (analytic %.6f), Rd %.6f +- %.6f (analytic %.6f)\n",
+              theta0_deg, r.transmittance.mean, r.transmittance.se, ref.tt, r.reflectance.mean,
+              r.reflectance.se, ref.rd);
 }
 
 // Two layers under an ambient of index 1.5: glass (1.5) on top of a layer of index 1.0, both
@@ -70,8 +71,12 @@ mc::Result tir_run(double theta_deg) {
 
 }  // namespace
 
-TEST(McAnalytic, GlassSlabNormalIncidence) { check_glass(0.0); }
-TEST(McAnalytic, GlassSlabObliqueIncidence) { check_glass(50.0); }
+TEST(McAnalytic, GlassSlabNormalIncidence) {
+  check_glass(0.0);
+}
+TEST(McAnalytic, GlassSlabObliqueIncidence) {
+  check_glass(50.0);
+}
 
 TEST(McAnalytic, TotalInternalReflectionAboveCriticalAngle) {
   const mc::Result r = tir_run(45.0);

@@ -1,11 +1,11 @@
 // Bad input gives a typed error that names what was wrong; good input round-trips.
-#include <gtest/gtest.h>
-
 #include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+
+#include <gtest/gtest.h>
 
 #include "slab_fixture.hpp"
 #include "tocd/sim/mc/output.hpp"
@@ -65,8 +65,9 @@ TEST(McOptics, BadValuesNameRegionAndKey) {
   EXPECT_NE(err(base + "g = 0.9\nn = 1.4\nmus = 3\n").find("unknown key 'mus'"), std::string::npos);
   EXPECT_NE(err("[region.x]\nmu_a=1\n").find("region id must be an integer"), std::string::npos);
   EXPECT_NE(err("[region.1\n").find("file.toml:1"), std::string::npos);
-  EXPECT_NE(error_of<mc::OpticsError>([] { mc::load_optics_toml("/nonexistent/optics.toml"); }).find("cannot open"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of<mc::OpticsError>([] { mc::load_optics_toml("/nonexistent/optics.toml"); }).find("cannot open"),
+      std::string::npos);
 }
 
 TEST(McRunInput, MissingRegionIsNamed) {
@@ -98,8 +99,9 @@ TEST(McRunInput, SourceOutsideTheMesh) {
   mc::Source marker;
   marker.kind = mc::Source::Kind::marker;
   marker.marker = 42;
-  EXPECT_NE(error_of<mc::SourceError>([&] { mc::run(mesh, optics, marker, settings(100)); }).find("marker 42"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of<mc::SourceError>([&] { mc::run(mesh, optics, marker, settings(100)); }).find("marker 42"),
+      std::string::npos);
   mc::Source disk;
   disk.kind = mc::Source::Kind::disk;
   disk.origin = {20.0, 0.0, 3.0};
@@ -160,12 +162,14 @@ TEST(McSource, MarkerSourceLightsThatFaceOnly) {
 
 TEST(McOutput, JsonAndVtu) {
   const mc::PreparedMesh mesh = slab(4.0, 1.0, 2, 1);
-  const mc::Result r = mc::run(mesh, one_region(props(0.5, 5.0, 0.8, 1.4)), pencil(0, 0.01, 0.01, 1.0), settings(2000));
+  const mc::Result r =
+      mc::run(mesh, one_region(props(0.5, 5.0, 0.8, 1.4)), pencil(0, 0.01, 0.01, 1.0), settings(2000));
   const auto j = mc::to_json(r);
   EXPECT_EQ(j["photons"], 2000);
   EXPECT_DOUBLE_EQ(j["transmittance"]["mean"].get<double>(), r.transmittance.mean);
   EXPECT_TRUE(j["exit_by_marker"].contains("2"));
-  const auto path = std::filesystem::temp_directory_path() / ("tocd_mc_" + std::to_string(::getpid()) + ".vtu");
+  const auto path =
+      std::filesystem::temp_directory_path() / ("tocd_mc_" + std::to_string(::getpid()) + ".vtu");
   mc::write_fluence_vtu(mesh, r, path);
   std::ifstream in(path);
   std::stringstream ss;

@@ -1,10 +1,10 @@
 // The mesh must not change the physics: a coarse and a fine tetrahedralisation of the same
 // slab, and the slab rotated in space, give the same tallies; the thread count never changes
 // them; energy is conserved to round-off.
-#include <gtest/gtest.h>
-
 #include <cmath>
 #include <numbers>
+
+#include <gtest/gtest.h>
 
 #include "slab_fixture.hpp"
 
@@ -60,7 +60,8 @@ TEST(McInvariance, RotatedSlabAgrees) {
   mc::Source beam = pencil(0.0, 0.0123, -0.0217, 1.0);
   beam.origin = rotate(beam.origin, axis, kDeg, centre);
   beam.direction = rotate(beam.direction, axis, kDeg, {0.0, 0.0, 0.0});
-  const mc::Result turned = mc::run(slab(20.0, 1.0, 6, 3, kDeg), kTissue, beam, settings(100000 * kScale, 21));
+  const mc::Result turned =
+      mc::run(slab(20.0, 1.0, 6, 3, kDeg), kTissue, beam, settings(100000 * kScale, 21));
   const mc::Result flat = mc::run(slab(20.0, 1.0, 6, 3), kTissue, pencil(0.0, 0.0123, -0.0217, 1.0),
                                   settings(100000 * kScale, 22));
   using tocd::sim::mesh::kSlabBottomMarker;
@@ -75,7 +76,8 @@ TEST(McInvariance, RotatedSlabAgrees) {
 TEST(McReproducibility, ThreadCountNeverChangesTallies) {
   const mc::PreparedMesh mesh = slab(20.0, 1.0, 6, 3);
   mc::Result r[3];
-  for (int t = 1; t <= 3; ++t) r[t - 1] = mc::run(mesh, kTissue, pencil(0.0, 0.0123, -0.0217, 1.0), settings(20000, 5, t));
+  for (int t = 1; t <= 3; ++t)
+    r[t - 1] = mc::run(mesh, kTissue, pencil(0.0, 0.0123, -0.0217, 1.0), settings(20000, 5, t));
   for (int i = 1; i < 3; ++i) {
     // Bitwise: per-photon streams and batch-ordered reduction.
     EXPECT_EQ(r[i].transmittance.mean, r[0].transmittance.mean);

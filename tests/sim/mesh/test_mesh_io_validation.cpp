@@ -1,8 +1,8 @@
-#include <gtest/gtest.h>
-
 #include <filesystem>
 #include <fstream>
 #include <string>
+
+#include <gtest/gtest.h>
 
 #include "tocd/sim/mesh/mesh_error.hpp"
 #include "tocd/sim/mesh/slab_mesh.hpp"
@@ -105,7 +105,8 @@ TEST(TetgenIo, RoundTripKeepsEverything) {
 
 TEST(TetgenIo, ReadsOneBasedFilesWithComments) {
   const auto prefix = temp_prefix("one_based");
-  std::ofstream(prefix.string() + ".node") << "# tetgen output\n4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1 # apex\n";
+  std::ofstream(prefix.string() + ".node")
+      << "# tetgen output\n4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1 # apex\n";
   std::ofstream(prefix.string() + ".ele") << "1 4 1\n1 1 2 3 4 5\n";
   std::ofstream(prefix.string() + ".face") << "1 1\n1 1 2 3 -7\n";
   const msh::TetMesh m = msh::read_tetgen(prefix);
@@ -128,7 +129,8 @@ TEST(TetgenIo, BadFilesNameFileAndLine) {
   EXPECT_NE(msg2.find("bad.ele:2"), std::string::npos) << msg2;
   EXPECT_NE(msg2.find("out of range"), std::string::npos) << msg2;
 
-  EXPECT_NE(error_of([&] { msh::read_tetgen(temp_prefix("missing")); }).find("cannot open"), std::string::npos);
+  EXPECT_NE(error_of([&] { msh::read_tetgen(temp_prefix("missing")); }).find("cannot open"),
+            std::string::npos);
 }
 
 TEST(Validate, InvertedTetIsNamed) {

@@ -31,8 +31,8 @@ void print_text(const tocd::sim::mc::Result& r, const std::string& source) {
   auto line = [](const char* name, const tocd::sim::mc::Estimate& e) {
     std::cout << fmt::format("  {:<18} {:.6f} +- {:.6f}\n", name, e.mean, e.se);
   };
-  std::cout << fmt::format("{} photons, seed {}, {} threads, {} batches; source: {}\n", r.photons, r.seed, r.threads,
-                           r.batches, source);
+  std::cout << fmt::format("{} photons, seed {}, {} threads, {} batches; source: {}\n", r.photons, r.seed,
+                           r.threads, r.batches, source);
   line("transmittance", r.transmittance);
   line("reflectance", r.reflectance);
   line("side loss", r.side_loss);
@@ -40,17 +40,19 @@ void print_text(const tocd::sim::mc::Result& r, const std::string& source) {
   line("specular", r.specular);
   if (r.missed.mean > 0.0) line("missed", r.missed);
   for (const auto& [m, e] : r.exit_by_marker) line(fmt::format("exit marker {}", m).c_str(), e);
-  std::cout << fmt::format("  {:.2f} s, {:.0f} photons/s, {:.3g} events/s, energy balance error {:.1e}{}\n", r.seconds,
-                           r.photons_per_second, r.events_per_second, r.energy_balance_error,
+  std::cout << fmt::format("  {:.2f} s, {:.0f} photons/s, {:.3g} events/s, energy balance error {:.1e}{}\n",
+                           r.seconds, r.photons_per_second, r.events_per_second, r.energy_balance_error,
                            r.cancelled ? " (cancelled)" : "");
 }
 
 void run_mc(const McOptions& o) {
   namespace mc = tocd::sim::mc;
   namespace msh = tocd::sim::mesh;
-  if (o.mesh_prefix.empty() == o.slab.empty()) throw tocd::ConfigError("give exactly one of --mesh PREFIX or --slab SPEC");
+  if (o.mesh_prefix.empty() == o.slab.empty())
+    throw tocd::ConfigError("give exactly one of --mesh PREFIX or --slab SPEC");
   const mc::PreparedMesh mesh =
-      mc::prepare(o.slab.empty() ? msh::read_tetgen(o.mesh_prefix) : msh::make_slab(msh::parse_slab_spec(o.slab, o.slab_cells)));
+      mc::prepare(o.slab.empty() ? msh::read_tetgen(o.mesh_prefix)
+                                 : msh::make_slab(msh::parse_slab_spec(o.slab, o.slab_cells)));
   const mc::Optics optics = mc::load_optics_toml(o.optics_file);
   const mc::Source source = mc::parse_source(o.source, mesh.box);
   mc::RunSettings s;
@@ -80,14 +82,17 @@ void install_mc(CLI::App& root) {
   cmd->add_option("--mesh", o->mesh_prefix, "TetGen mesh prefix (PREFIX.node, .ele, optional .face)");
   cmd->add_option("--slab", o->slab, "built-in slab: WxDxT or WxD:T1@R1,T2@R2,... (mm, layers top-down)");
   cmd->add_option("--slab-cells", o->slab_cells, "slab cells across x and y")->capture_default_str();
-  cmd->add_option("--optics", o->optics_file, "optics TOML: [region.<id>] mu_a, mu_s (1/mm), g, n")->required();
-  cmd->add_option("--source", o->source, "pencil[:X,Y] | disk:[X,Y,]R | marker:N  (',nospec' = no entry specular)")
+  cmd->add_option("--optics", o->optics_file, "optics TOML: [region.<id>] mu_a, mu_s (1/mm), g, n")
+      ->required();
+  cmd->add_option("--source", o->source,
+                  "pencil[:X,Y] | disk:[X,Y,]R | marker:N  (',nospec' = no entry specular)")
       ->capture_default_str();
   cmd->add_option("--photons", o->photons, "photons to launch")->capture_default_str();
   cmd->add_option("--seed", o->seed, "random seed")->capture_default_str();
   cmd->add_option("--threads", o->threads, "threads (results do not depend on it)")->capture_default_str();
   cmd->add_option("--batches", o->batches, "batches for standard errors")->capture_default_str();
-  cmd->add_option("--ambient-n", o->ambient_n, "refractive index outside the mesh (default: optics file, else 1.0)");
+  cmd->add_option("--ambient-n", o->ambient_n,
+                  "refractive index outside the mesh (default: optics file, else 1.0)");
   cmd->add_flag("--json", o->json, "machine-readable output");
   cmd->add_option("--vtu", o->vtu, "write per-tet fluence to this .vtu file (ParaView)");
   cmd->callback([o] { run_mc(*o); });

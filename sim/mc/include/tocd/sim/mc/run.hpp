@@ -16,8 +16,8 @@ namespace tocd::sim::mc {
 struct RunSettings {
   std::uint64_t photons = 100000;
   std::uint64_t seed = 1;
-  int threads = 1;   ///< OpenMP threads (capped at `batches`)
-  int batches = 20;  ///< independent batches for standard errors (>= 2)
+  int threads = 1;         ///< OpenMP threads (capped at `batches`)
+  int batches = 20;        ///< independent batches for standard errors (>= 2)
   double ambient_n = 1.0;  ///< refractive index outside the mesh
   /// Regions with mu_s at or below this (or g = 1) are ballistic: straight flight to the next
   /// face with continuous absorption exp(-mu_a L). Scattering there is neglected.
@@ -45,14 +45,14 @@ struct Result {
   int batches = 0;
   bool cancelled = false;
 
-  Estimate transmittance;  ///< exits through bottom faces (outward normal -z on the box bottom)
-  Estimate reflectance;    ///< exits through top faces after entering (entry specular excluded)
-  Estimate side_loss;      ///< exits through every other boundary face
-  Estimate specular;       ///< Fresnel reflection at entry
-  Estimate absorbed;       ///< deposited in the mesh
+  Estimate transmittance;     ///< exits through bottom faces (outward normal -z on the box bottom)
+  Estimate reflectance;       ///< exits through top faces after entering (entry specular excluded)
+  Estimate side_loss;         ///< exits through every other boundary face
+  Estimate specular;          ///< Fresnel reflection at entry
+  Estimate absorbed;          ///< deposited in the mesh
   Estimate roulette_balance;  ///< weight removed by roulette minus weight added to survivors
-  Estimate missed;         ///< disk photons whose line missed the mesh (never entered)
-  Estimate lost;           ///< packets stopped by the step guard (numerically stuck); should be 0
+  Estimate missed;            ///< disk photons whose line missed the mesh (never entered)
+  Estimate lost;              ///< packets stopped by the step guard (numerically stuck); should be 0
   std::map<std::int32_t, Estimate> exit_by_marker;      ///< exits per boundary marker (0 = none)
   std::map<std::int32_t, Estimate> absorbed_by_region;  ///< per region id
 
@@ -65,7 +65,7 @@ struct Result {
   /// launched: zero up to round-off.
   double energy_balance_error = 0.0;
 
-  std::uint64_t events = 0;  ///< scattering events
+  std::uint64_t events = 0;     ///< scattering events
   std::uint64_t face_hits = 0;  ///< packet arrivals at a tet face (crossings and reflections)
   double seconds = 0.0;
   double photons_per_second = 0.0;

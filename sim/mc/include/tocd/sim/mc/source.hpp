@@ -21,10 +21,10 @@ class SourceError : public tocd::ConfigError {
 struct Source {
   enum class Kind { pencil, disk, marker };
   Kind kind = Kind::pencil;
-  std::array<double, 3> origin{0.0, 0.0, 0.0};       ///< pencil point / disk centre, mm
-  std::array<double, 3> direction{0.0, 0.0, -1.0};   ///< need not be unit; pencil and disk
-  double radius_mm = 0.0;                            ///< disk radius
-  std::int32_t marker = 0;                           ///< marker source: faces with this marker
+  std::array<double, 3> origin{0.0, 0.0, 0.0};      ///< pencil point / disk centre, mm
+  std::array<double, 3> direction{0.0, 0.0, -1.0};  ///< need not be unit; pencil and disk
+  double radius_mm = 0.0;                           ///< disk radius
+  std::int32_t marker = 0;                          ///< marker source: faces with this marker
   /// Marker source: when false, each face is lit along its own inward normal with weight by
   /// area (a flat face lit straight on); when true, along `direction` with weight by
   /// projected area.

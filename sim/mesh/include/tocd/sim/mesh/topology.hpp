@@ -10,7 +10,8 @@
 namespace tocd::sim::mesh {
 
 /// Local face f of a tet is the triangle opposite its local node f.
-inline constexpr std::array<std::array<int, 3>, 4> kFaceLocalNodes = {{{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}}};
+inline constexpr std::array<std::array<int, 3>, 4> kFaceLocalNodes = {
+    {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}}};
 
 /// Neighbours across each local face (-1 on the mesh boundary) and the boundary marker of
 /// each boundary face (from TetMesh::boundary_faces, 0 when none is given).
