@@ -1,6 +1,7 @@
 // Prints photons/s and scattering events/s for the two benchmark problems of the photon
 // Monte Carlo, with 1 thread and with 2 (or --threads N), after a warm-up run.
 //   mc_bench [--photons N] [--threads N] [--cells N]
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -26,19 +27,23 @@ mc::Optics optics() {
   return o;
 }
 
-// 10 x 10 x 2.5 mm skin; cells^2 x cells x 6 tets (cells = 20: 48,000 tets).
+// Cells about cubic, as a mesher would make them: `cells` across 10 mm, so a layer of
+// thickness t gets round(cells * t / 10) cells in z.
+int z_cells(int cells, double thickness_mm) { return std::max(1, static_cast<int>(cells * thickness_mm / 10.0 + 0.5)); }
+
+// 10 x 10 x 2.5 mm skin; 6 tets per cell (cells = 32: 49,152 tets).
 msh::SlabSpec skin_slab(int cells) {
   msh::SlabSpec s;
   s.width_mm = s.depth_mm = 10.0;
   s.cells_x = s.cells_y = cells;
-  s.layers = {{2.5, kSkin, cells}};
+  s.layers = {{2.5, kSkin, z_cells(cells, 2.5)}};
   return s;
 }
 
 // The same skin between 1 mm of air above and a 1 mm glass slide below.
 msh::SlabSpec layered_slab(int cells) {
   msh::SlabSpec s = skin_slab(cells);
-  s.layers = {{1.0, kAir, cells / 4}, {2.5, kSkin, cells}, {1.0, kGlass, cells / 4}};
+  s.layers = {{1.0, kAir, z_cells(cells, 1.0)}, {2.5, kSkin, z_cells(cells, 2.5)}, {1.0, kGlass, z_cells(cells, 1.0)}};
   return s;
 }
 
@@ -69,7 +74,7 @@ void bench(const char* name, const msh::SlabSpec& spec, std::uint64_t photons, i
 
 int main(int argc, char** argv) {
   std::uint64_t photons = 1'000'000;
-  int max_threads = 2, cells = 20;
+  int max_threads = 2, cells = 32;
   for (int i = 1; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--photons"))
       photons = std::strtoull(argv[i + 1], nullptr, 10);

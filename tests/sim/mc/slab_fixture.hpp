@@ -51,6 +51,13 @@ inline Optics one_region(const RegionOptics& r) {
   return o;
 }
 
+/// Suite names get a "Long" suffix in the physics-long build so ctest names stay unique.
+#ifdef TOCD_MC_LONG
+#define MC_SUITE(name) name##Long
+#else
+#define MC_SUITE(name) name
+#endif
+
 /// Photon count scale: physics-long builds define TOCD_MC_LONG to run 20x more photons.
 #ifdef TOCD_MC_LONG
 inline constexpr std::uint64_t kScale = 20;

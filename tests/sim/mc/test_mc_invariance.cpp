@@ -38,11 +38,11 @@ std::array<double, 3> rotate(std::array<double, 3> v, std::array<double, 3> axis
 
 }  // namespace
 
-TEST(McInvariance, CoarseAndFineMeshesAgree) {
+TEST(MC_SUITE(McInvariance), CoarseAndFineMeshesAgree) {
   const mc::Result coarse = mc::run(slab(20.0, 1.0, 2, 1), kTissue, pencil(0.0, 0.0123, -0.0217, 1.0),
-                                    settings(100000 * kScale, 11));
+                                    settings(200000 * kScale, 11));
   const mc::Result fine = mc::run(slab(20.0, 1.0, 24, 10), kTissue, pencil(0.0, 0.0123, -0.0217, 1.0),
-                                  settings(100000 * kScale, 12));
+                                  settings(200000 * kScale, 12));
   expect_same(coarse.transmittance, fine.transmittance, "T");
   expect_same(coarse.reflectance, fine.reflectance, "R");
   expect_same(coarse.absorbed, fine.absorbed, "A");
@@ -52,7 +52,7 @@ TEST(McInvariance, CoarseAndFineMeshesAgree) {
               fine.transmittance.se);
 }
 
-TEST(McInvariance, RotatedSlabAgrees) {
+TEST(MC_SUITE(McInvariance), RotatedSlabAgrees) {
   // make_slab rotates about (0, 0, thickness/2); the beam is rotated with it. Rotated, the
   // top and bottom are no longer the box's, so compare the slab's own face markers.
   constexpr double kDeg = 37.0;
@@ -61,9 +61,9 @@ TEST(McInvariance, RotatedSlabAgrees) {
   beam.origin = rotate(beam.origin, axis, kDeg, centre);
   beam.direction = rotate(beam.direction, axis, kDeg, {0.0, 0.0, 0.0});
   const mc::Result turned =
-      mc::run(slab(20.0, 1.0, 6, 3, kDeg), kTissue, beam, settings(100000 * kScale, 21));
+      mc::run(slab(20.0, 1.0, 6, 3, kDeg), kTissue, beam, settings(200000 * kScale, 21));
   const mc::Result flat = mc::run(slab(20.0, 1.0, 6, 3), kTissue, pencil(0.0, 0.0123, -0.0217, 1.0),
-                                  settings(100000 * kScale, 22));
+                                  settings(200000 * kScale, 22));
   using tocd::sim::mesh::kSlabBottomMarker;
   using tocd::sim::mesh::kSlabTopMarker;
   expect_same(turned.exit_by_marker.at(kSlabBottomMarker), flat.transmittance, "T");
@@ -73,7 +73,7 @@ TEST(McInvariance, RotatedSlabAgrees) {
   EXPECT_NEAR(flat.exit_by_marker.at(kSlabBottomMarker).mean, flat.transmittance.mean, 1e-15);
 }
 
-TEST(McReproducibility, ThreadCountNeverChangesTallies) {
+TEST(MC_SUITE(McReproducibility), ThreadCountNeverChangesTallies) {
   const mc::PreparedMesh mesh = slab(20.0, 1.0, 6, 3);
   mc::Result r[3];
   for (int t = 1; t <= 3; ++t)
@@ -90,7 +90,7 @@ TEST(McReproducibility, ThreadCountNeverChangesTallies) {
   EXPECT_NE(other.transmittance.mean, r[0].transmittance.mean);
 }
 
-TEST(McEnergy, LaunchedWeightIsAccountedFor) {
+TEST(MC_SUITE(McEnergy), LaunchedWeightIsAccountedFor) {
   // Three layers (ballistic air-like, scattering tissue, ballistic glass), mismatched
   // indices everywhere, disk source: every weight path of the kernel is used.
   tocd::sim::mesh::SlabSpec spec;
