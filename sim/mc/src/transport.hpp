@@ -258,6 +258,7 @@ inline void transport_photon(const KernelTet* tets, const KernelLink* links, con
     }
     tet = next;
     detail::prefetch_neighbours(tets, links, links[tet]);
+    if (absorbed_per_tet) __builtin_prefetch(absorbed_per_tet + tet, 1);  // the next deposit goes here
   }
 }
 
