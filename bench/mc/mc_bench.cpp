@@ -29,7 +29,9 @@ mc::Optics optics() {
 
 // Cells about cubic, as a mesher would make them: `cells` across 10 mm, so a layer of
 // thickness t gets round(cells * t / 10) cells in z.
-int z_cells(int cells, double thickness_mm) { return std::max(1, static_cast<int>(cells * thickness_mm / 10.0 + 0.5)); }
+int z_cells(int cells, double thickness_mm) {
+  return std::max(1, static_cast<int>(cells * thickness_mm / 10.0 + 0.5));
+}
 
 // 10 x 10 x 2.5 mm skin; 6 tets per cell (cells = 32: 49,152 tets).
 msh::SlabSpec skin_slab(int cells) {
@@ -43,7 +45,9 @@ msh::SlabSpec skin_slab(int cells) {
 // The same skin between 1 mm of air above and a 1 mm glass slide below.
 msh::SlabSpec layered_slab(int cells) {
   msh::SlabSpec s = skin_slab(cells);
-  s.layers = {{1.0, kAir, z_cells(cells, 1.0)}, {2.5, kSkin, z_cells(cells, 2.5)}, {1.0, kGlass, z_cells(cells, 1.0)}};
+  s.layers = {{1.0, kAir, z_cells(cells, 1.0)},
+              {2.5, kSkin, z_cells(cells, 2.5)},
+              {1.0, kGlass, z_cells(cells, 1.0)}};
   return s;
 }
 

@@ -153,6 +153,19 @@ inline void transport_photon(const KernelTet* tets, const KernelLink* links, con
   detail::prefetch_neighbours(tets, links, links[tet]);
   double tau = -std::log(rng.uniform());  // optical depth left to the next interaction
   std::int32_t tet_now = tet;
+  // Russian roulette for a light packet: survive 1 in `chance` with `chance` times the
+  // weight, so the expected weight is unchanged. Returns false when the packet died.
+  auto survives_roulette = [&]() {
+    if (w >= s.roulette_threshold) return true;
+    if (rng.uniform() * s.roulette_chance < 1.0) {
+      roulette -= w * (s.roulette_chance - 1.0);
+      w *= s.roulette_chance;
+      return true;
+    }
+    roulette += w;
+    finish();
+    return false;
+  };
   // An interaction at distance `dist` inside the current tet: move, deposit the absorbed
   // fraction (implicit capture), deflect, play roulette, draw the next optical depth.
   // Returns false when the packet died in roulette.
@@ -163,16 +176,7 @@ inline void transport_photon(const KernelTet* tets, const KernelLink* links, con
     w -= dep;
     ++events;
     detail::scatter(u, o.g, rng);
-    if (w < s.roulette_threshold) {
-      if (rng.uniform() * s.roulette_chance < 1.0) {
-        roulette -= w * (s.roulette_chance - 1.0);
-        w *= s.roulette_chance;
-      } else {
-        roulette += w;
-        finish();
-        return false;
-      }
-    }
+    if (!survives_roulette()) return false;
     tau = -std::log(rng.uniform());
     return true;
   };
@@ -230,6 +234,9 @@ inline void transport_photon(const KernelTet* tets, const KernelLink* links, con
       const double dep = w * (1.0 - std::exp(-o.mu_a * best));
       deposit(tet, link.region_slot, dep);
       w -= dep;
+      // Also here: a packet trapped by total internal reflection in weakly absorbing glass
+      // would otherwise bounce until the step guard.
+      if (!survives_roulette()) return;
     } else {
       tau -= best * o.mu_t;
     }
