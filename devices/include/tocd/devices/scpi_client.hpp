@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -63,10 +64,12 @@ class ScpiClient {
   std::string transact(std::string_view message, bool expect_answer, std::chrono::milliseconds extra);
   void ensure_open(Clock::time_point deadline);
   void recover_after_failure(LinkFailure kind) noexcept;
+  std::optional<ScpiErrorEntry> probe_error() noexcept;
 
   std::unique_ptr<ScpiLink> link_;
   std::string instrument_;
   ScpiClientOptions options_;
+  bool opened_once_ = false;
   int reconnects_ = 0;
   int retried_ = 0;
 };
