@@ -28,8 +28,8 @@ struct VacuumConfig {
 struct PowerMeterConfig {
   enum class Transport { scpi_tcp, usbtmc };
   Transport transport = Transport::scpi_tcp;
-  std::string host = "127.0.0.1";  ///< scpi-tcp
-  int port = 5025;                  ///< scpi-tcp
+  std::string host = "127.0.0.1";    ///< scpi-tcp
+  int port = 5025;                   ///< scpi-tcp
   std::uint16_t vendor_id = 0x1313;  ///< usbtmc
   std::uint16_t product_id = 0;      ///< usbtmc; 0 = the first meter of that vendor
   std::string serial;                ///< usbtmc; empty = any

@@ -13,7 +13,7 @@ namespace tocd::mocks {
 class SimClock;
 
 struct TesterTwinOptions {
-  std::shared_ptr<TissueModel> tissue;  ///< default: make_analytic_tissue(2.5)
+  std::shared_ptr<TissueModel> tissue;    ///< default: make_analytic_tissue(2.5)
   std::shared_ptr<const SimClock> clock;  ///< default: a real-time clock
   std::string host = "127.0.0.1";
   int port = 0;  ///< 0 = any free port (see TesterTwin::port())
@@ -21,7 +21,7 @@ struct TesterTwinOptions {
   double contact_position_mm = 1.0;  ///< pin touches the sample surface here
   double max_travel_mm = 10.0;
   double max_load_N = 50.0;
-  double load_noise_N = 0.002;     ///< load-cell noise (1 sigma)
+  double load_noise_N = 0.002;       ///< load-cell noise (1 sigma)
   double relaxation_fraction = 0.3;  ///< extra stress carried while moving (standard linear solid)
   double relaxation_time_s = 20.0;   ///< time constant of stress relaxation while holding
   double max_velocity_mm_per_s = 20.0;
@@ -48,8 +48,8 @@ class TesterTwin {
 
   // Fault hooks.
   void inject(const ModbusFault& fault);
-  void drop_connections();              ///< closes every client connection now
-  void trip_load_limit();               ///< as if the load exceeded the limit
+  void drop_connections();                   ///< closes every client connection now
+  void trip_load_limit();                    ///< as if the load exceeded the limit
   void set_drive_fault(std::uint16_t code);  ///< latches a fault with this code (clear_fault resets)
   int connections_accepted() const;
   int faults_pending() const;

@@ -15,12 +15,12 @@ struct VacuumTwinOptions {
   std::shared_ptr<const SimClock> clock;  ///< default: a real-time clock
   int slave_id = 1;
   double atmosphere_kPa = 101.3;
-  double ultimate_kPa = 0.5;        ///< best the pump reaches with no leak
+  double ultimate_kPa = 0.5;          ///< best the pump reaches with no leak
   double pump_time_constant_s = 4.0;  ///< chamber volume / pumping speed
-  double leak_kPa_per_s = 0.05;     ///< leak into the chamber (first-order pump-down with leak)
+  double leak_kPa_per_s = 0.05;       ///< leak into the chamber (first-order pump-down with leak)
   double vent_time_constant_s = 0.5;
   double seal_loss_leak_kPa_per_s = 40.0;  ///< leak after inject_seal_loss()
-  double setpoint_timeout_s = 60.0;  ///< pumping this long without reaching the setpoint = error 1
+  double setpoint_timeout_s = 60.0;        ///< pumping this long without reaching the setpoint = error 1
 };
 
 /// The simulated vacuum pump controller: a libmodbus Modbus RTU server on the master side of a
