@@ -11,6 +11,7 @@ namespace tocd::mocks {
 
 class SimClock;
 class TesterTwin;
+class PowerMeterTwin;
 class VacuumTwin;
 
 struct SimulatedLabOptions {
@@ -26,7 +27,7 @@ struct SimulatedLabOptions {
 };
 
 /// Every simulated instrument of the pin-compression rig, each on its real transport: the tester
-/// (Modbus TCP on loopback), the power meter (SCPI over TCP, when built with it) and the vacuum
+/// (Modbus TCP on loopback), the power meter (SCPI over TCP) and the vacuum
 /// controller (Modbus RTU on a pseudo-terminal). They share one clock and one tissue: the power
 /// meter reads source power x transmission at the tester's current displacement.
 class SimulatedLab {
@@ -43,6 +44,7 @@ class SimulatedLab {
   TesterTwin& tester();
   VacuumTwin* vacuum();  ///< null without vacuum
   bool has_power_meter() const;
+  PowerMeterTwin* power_meter();  ///< null without power meter (all its fault hooks are there)
 
   // Fault hooks.
   void inject_tester_fault(const ModbusFault& fault);
