@@ -32,6 +32,7 @@ struct WriterStats {
   std::size_t queue_depth = 0;
   std::size_t queue_high_water = 0;
   double last_batch_ms = 0, mean_batch_ms = 0, max_batch_ms = 0;  // commit latency per batch
+  double writer_cpu_seconds = 0;  // CPU time of the writer thread so far
   std::string last_error;                                         // "" while all is well
 };
 
