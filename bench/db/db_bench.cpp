@@ -28,8 +28,11 @@ void remove_db(const std::filesystem::path& p) {
 }
 
 void print_stats(const WriterStats& s) {
-  fmt::print("  batches {}  batch commit latency mean {:.2f} ms  max {:.2f} ms  queue high water {}\n",
-             s.batches, s.mean_batch_ms, s.max_batch_ms, s.queue_high_water);
+  fmt::print(
+      "  batches {}  batch commit latency mean {:.2f} ms  max {:.2f} ms  enqueue-to-commit max {:.1f} ms  "
+      "queue high water {}  writer CPU {:.2f} s\n",
+      s.batches, s.mean_batch_ms, s.max_batch_ms, s.max_commit_delay_ms, s.queue_high_water,
+      s.writer_cpu_seconds);
   fmt::print("  enqueued {}  written {}  dropped {}  rejected {}  failed {}\n", s.enqueued, s.written,
              s.dropped, s.rejected, s.failed);
 }
@@ -167,9 +170,11 @@ int main(int argc, char** argv) {
   const double seconds = argc > 1 ? std::atof(argv[1]) : 5.0;
   const std::filesystem::path path = argc > 2 ? argv[2] : "db_bench.sqlite";
   const bool ok0 = drain(path, 3'000'000);
-  const bool ok1 = ok0 && sustained(path, seconds, 250'000);
+  const bool ok1 = sustained(path, seconds, 250'000);
   const bool ok2 = acquisition_shape(path);
   remove_db(path);
-  fmt::print("{}\n", ok1 && ok2 ? "PASS (>= 200,000 samples/s sustained, no sample lost)" : "BELOW TARGET");
-  return ok1 && ok2 ? 0 : 1;
+  const bool ok = ok0 && ok1 && ok2;
+  fmt::print("{}\n", ok ? "PASS (>= 200,000 samples/s sustained, no sample lost)"
+                        : "BELOW TARGET (on a loaded machine compare samples per writer CPU-s with 200,000)");
+  return ok ? 0 : 1;
 }

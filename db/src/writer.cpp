@@ -1,8 +1,10 @@
 #include "tocd/db/writer.hpp"
 
 #include <algorithm>
+#include <array>
 #include <condition_variable>
 #include <ctime>
+#include <memory>
 #include <mutex>
 #include <span>
 #include <thread>
@@ -94,6 +96,7 @@ struct Writer::Impl {
         if (stopping) break;
         continue;
       }
+      const Clock::time_point oldest = first_pending;  // enqueue time of the batch's first row
       batch.swap(samples);
       batch_events.swap(events);
       if (pending() == 0 && !stopping) flush_requested = false;
@@ -111,7 +114,9 @@ struct Writer::Impl {
         std::uint64_t written = 0, rejected = 0, failed = 0;
         std::string error;
         write_batch(part, evs, written, rejected, failed, error);
-        const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+        const auto t1 = Clock::now();
+        const double ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+        const double delay_ms = std::chrono::duration<double, std::milli>(t1 - oldest).count();
         timespec cpu{};
         clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu);
 
@@ -126,6 +131,7 @@ struct Writer::Impl {
           batch_ms_sum += ms;
           st.last_batch_ms = ms;
           st.max_batch_ms = std::max(st.max_batch_ms, ms);
+          st.max_commit_delay_ms = std::max(st.max_commit_delay_ms, delay_ms);
           st.mean_batch_ms = batch_ms_sum / static_cast<double>(st.batches);
         }
         processed_items += n + evs.size();
@@ -177,7 +183,7 @@ struct Writer::Impl {
           }
           ins.bind(1, run).bind(2, s.channel_id).bind(3, s.t_ns).bind(4, s.value);
           ins.step();
-          sqlite3_reset(ins.get());  // bindings are all rebound; no clear needed
+          sqlite3_reset(ins.get());  // every parameter is bound again for the next row
           ++written;
         }
         if (last_bad != 0) error = fmt::format("samples for unknown channel id {} were rejected", last_bad);
