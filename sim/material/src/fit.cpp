@@ -90,13 +90,27 @@ OgdenParameters to_ogden(FitModel m, const VectorXd& p) {
   return o;
 }
 
-// Nominal uniaxial stress of the incompressible model at stretch lambda.
+// Nominal uniaxial stress of the incompressible model at stretch lambda (no allocation: this
+// is the inner loop of the fit).
 double model_stress(FitModel m, const VectorXd& p, double lambda) {
-  if (m == FitModel::yeoh) {
-    const double e = lambda * lambda + 2 / lambda - 3;
-    return 2 * (lambda - 1 / (lambda * lambda)) * (p[0] + 2 * p[1] * e + 3 * p[2] * e * e);
+  auto term = [lambda](double mu, double a) {
+    return 2 * mu / a * (std::pow(lambda, a - 1) - std::pow(lambda, -a / 2 - 1));
+  };
+  switch (m) {
+    case FitModel::yeoh: {
+      const double e = lambda * lambda + 2 / lambda - 3;
+      return 2 * (lambda - 1 / (lambda * lambda)) * (p[0] + 2 * p[1] * e + 3 * p[2] * e * e);
+    }
+    case FitModel::neo_hookean:
+      return term(2 * p[0], 2.0);
+    case FitModel::mooney_rivlin:
+      return term(2 * p[0], 2.0) + term(2 * p[1], -2.0);
+    default: {
+      double P = 0;
+      for (int i = 0; i < ogden_terms(m); ++i) P += term(p[2 * i], p[2 * i + 1]);
+      return P;
+    }
   }
-  return ogden_uniaxial_nominal_stress(to_ogden(m, p), lambda);
 }
 
 struct Problem {
@@ -198,7 +212,8 @@ std::vector<VectorXd> starting_points(const Problem& pr) {
     starts.push_back(A.colPivHouseholderQr().solve(b));
     return starts;
   }
-  const std::vector<double> grid = {-12, -8, -5, -3, -1.5, 1.5, 3, 5, 8, 12};
+  const std::vector<double> grid = N < 3 ? std::vector<double>{-12, -8, -5, -3, -1.5, 1.5, 3, 5, 8, 12}
+                                         : std::vector<double>{-10, -6, -3, -1.5, 1.5, 3, 6, 10};
   std::vector<int> idx(N);
   auto add = [&](const std::vector<double>& alphas) {
     Eigen::MatrixXd A(pr.lambda.size(), N);
