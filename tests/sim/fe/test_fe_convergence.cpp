@@ -24,7 +24,8 @@ double distance_to_set(const fe::Point2& p, const std::vector<std::vector<fe::Po
       const auto& a = loop[k];
       const auto& b = loop[(k + 1) % loop.size()];
       const double dr = b.r_mm - a.r_mm, dz = b.z_mm - a.z_mm, L2 = dr * dr + dz * dz;
-      const double t = L2 > 0 ? std::clamp(((p.r_mm - a.r_mm) * dr + (p.z_mm - a.z_mm) * dz) / L2, 0.0, 1.0) : 0.0;
+      const double t =
+          L2 > 0 ? std::clamp(((p.r_mm - a.r_mm) * dr + (p.z_mm - a.z_mm) * dz) / L2, 0.0, 1.0) : 0.0;
       best = std::min(best, std::hypot(p.r_mm - a.r_mm - t * dr, p.z_mm - a.z_mm - t * dz));
     }
   return best;

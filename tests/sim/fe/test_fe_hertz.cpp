@@ -17,7 +17,8 @@ void check(fe::Bottom bottom, const tocd::sim::material::OgdenParameters& mat, d
   ASSERT_TRUE(r.complete) << r.stop_reason;
   const double G = mat.initial_shear_modulus(), nu = mat.initial_poisson_ratio(), E = 2 * G * (1 + nu);
   for (const auto& s : r.steps) {
-    const double ref = layer_sphere_force(E, nu, m.pin_radius_mm, h, s.displacement_mm, bottom == fe::Bottom::bonded);
+    const double ref =
+        layer_sphere_force(E, nu, m.pin_radius_mm, h, s.displacement_mm, bottom == fe::Bottom::bonded);
     EXPECT_NEAR(s.force_N, ref, tol * ref) << fe::to_string(bottom) << " at d = " << s.displacement_mm;
   }
 }

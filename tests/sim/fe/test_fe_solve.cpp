@@ -38,7 +38,8 @@ TEST(FeSolve, PublishedCaseReachesOnePointFiveMillimetres) {
     // The surface under the pin follows the pin tip.
     EXPECT_NEAR(s.top_surface.front().z_mm, 2.5 - s.displacement_mm, 2e-3 * s.displacement_mm);
     EXPECT_DOUBLE_EQ(s.top_surface.front().r_mm, 0.0);
-    for (std::size_t k = 1; k < s.top_surface.size(); ++k) EXPECT_GT(s.top_surface[k].r_mm, s.top_surface[k - 1].r_mm);
+    for (std::size_t k = 1; k < s.top_surface.size(); ++k)
+      EXPECT_GT(s.top_surface[k].r_mm, s.top_surface[k - 1].r_mm);
     for (double J : s.element_J) EXPECT_GT(J, 0);
   }
 }
@@ -85,8 +86,8 @@ TEST(FeSolve, BadInputIsRefused) {
   m.thickness_mm = -1;
   EXPECT_THROW(fe::solve(m, {0.5}), fe::FeError);
   m = fe::FeModel::published_default();
-  EXPECT_THROW(fe::solve(m, {2.5}), fe::FeError);   // displacement reaches the slide
-  EXPECT_THROW(fe::solve(m, {3.0}), fe::FeError);   // beyond the slab
+  EXPECT_THROW(fe::solve(m, {2.5}), fe::FeError);  // displacement reaches the slide
+  EXPECT_THROW(fe::solve(m, {3.0}), fe::FeError);  // beyond the slab
   EXPECT_THROW(fe::solve(m, {0.5, 0.2}), fe::FeError);
   EXPECT_THROW(fe::solve(m, {}), fe::FeError);
   EXPECT_THROW(fe::solve(m, {-0.1}), fe::FeError);

@@ -1,4 +1,6 @@
 // `tocdlab fit`: fit a hyperelastic law to nominal stress-strain data (docs/fe.md, "Fitting").
+#include "tocd/sim/material/fit.hpp"
+
 #include <iostream>
 #include <memory>
 #include <string>
@@ -7,7 +9,6 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
-#include "tocd/sim/material/fit.hpp"
 
 namespace {
 
@@ -30,7 +31,8 @@ void run_fit(const FitCliOptions& o) {
     j["points"] = d.strain.size();
     for (std::size_t k = 0; k < r.names.size(); ++k) j["parameters"][r.names[k]] = r.values[k];
     j["D"] = r.D;
-    if (r.has_ogden_form) j["ogden"] = {{"mu_MPa", r.ogden.mu}, {"alpha", r.ogden.alpha}, {"D_per_MPa", r.ogden.D}};
+    if (r.has_ogden_form)
+      j["ogden"] = {{"mu_MPa", r.ogden.mu}, {"alpha", r.ogden.alpha}, {"D_per_MPa", r.ogden.D}};
     j["rms_MPa"] = r.rms_MPa;
     j["r_squared"] = r.r_squared;
     j["max_abs_residual_MPa"] = r.max_abs_residual_MPa;
@@ -45,17 +47,19 @@ void run_fit(const FitCliOptions& o) {
   }
   std::cout << fmt::format("{} fit to {} points ({})\n", mat::to_string(r.model), d.strain.size(),
                            opt.compression ? "uniaxial compression magnitudes" : "signed nominal data");
-  for (std::size_t k = 0; k < r.names.size(); ++k) std::cout << fmt::format("  {:<7} {:>14.6g}\n", r.names[k], r.values[k]);
+  for (std::size_t k = 0; k < r.names.size(); ++k)
+    std::cout << fmt::format("  {:<7} {:>14.6g}\n", r.names[k], r.values[k]);
   std::cout << fmt::format("  {:<7} {:>14.6g}  (1/MPa, from Poisson's ratio {})\n", "D1", r.D[0], o.poisson);
-  std::cout << fmt::format("  rms residual {:.4g} MPa, max {:.4g} MPa, R^2 {:.6f}\n", r.rms_MPa, r.max_abs_residual_MPa,
-                           r.r_squared);
+  std::cout << fmt::format("  rms residual {:.4g} MPa, max {:.4g} MPa, R^2 {:.6f}\n", r.rms_MPa,
+                           r.max_abs_residual_MPa, r.r_squared);
   std::cout << fmt::format("  Drucker stability over stretch [{:.3g}, {:.3g}]: {}\n", r.stability.lambda_min,
                            r.stability.lambda_max,
                            r.stability.stable ? "stable" : "UNSTABLE (" + r.stability.first_failure + ")");
 }
 
 void install_fit(CLI::App& root) {
-  auto* cmd = root.add_subcommand("fit", "Fit a hyperelastic law to nominal stress-strain data (see docs/fe.md)");
+  auto* cmd =
+      root.add_subcommand("fit", "Fit a hyperelastic law to nominal stress-strain data (see docs/fe.md)");
   auto o = std::make_shared<FitCliOptions>();
   cmd->add_option("--csv", o->csv, "two columns: strain, stress [MPa] (compression magnitudes by default)")
       ->required();
