@@ -13,8 +13,10 @@ namespace fe = tocd::sim::fe;
 namespace {
 #ifdef TOCD_FE_LONG
 constexpr double kFine = 2.0;
+#define TOCD_FE_CONVERGENCE FeConvergenceLong
 #else
 constexpr double kFine = 1.5;
+#define TOCD_FE_CONVERGENCE FeConvergence
 #endif
 
 double distance_to_set(const fe::Point2& p, const std::vector<std::vector<fe::Point2>>& set) {
@@ -32,7 +34,7 @@ double distance_to_set(const fe::Point2& p, const std::vector<std::vector<fe::Po
 }
 }  // namespace
 
-TEST(FeConvergence, ForceAndOutlineAtOnePointFiveMillimetres) {
+TEST(TOCD_FE_CONVERGENCE, ForceAndOutlineAtOnePointFiveMillimetres) {
   fe::FeModel coarse = fe::FeModel::published_default(), fine = coarse;
   fine.mesh_refinement = kFine;
   const fe::FeResult rc = fe::solve(coarse, {1.5}), rf = fe::solve(fine, {1.5});
