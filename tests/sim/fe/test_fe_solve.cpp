@@ -1,0 +1,116 @@
+// Whole-model checks on the published case: outputs are consistent with each other, the
+// compressed region is a closed CCW outline under the pin, and bad input is refused.
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "tocd/sim/fe/solve.hpp"
+
+namespace fe = tocd::sim::fe;
+
+namespace {
+const fe::FeResult& published() {
+  static const fe::FeResult r = fe::solve(fe::FeModel::published_default(), {0.625, 1.25, 1.5});
+  return r;
+}
+double signed_area(const std::vector<fe::Point2>& p) {
+  double a = 0;
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    const auto& u = p[k];
+    const auto& v = p[(k + 1) % p.size()];
+    a += 0.5 * (u.r_mm * v.z_mm - v.r_mm * u.z_mm);
+  }
+  return a;
+}
+}  // namespace
+
+TEST(FeSolve, PublishedCaseReachesOnePointFiveMillimetres) {
+  const auto& r = published();
+  ASSERT_TRUE(r.complete) << r.stop_reason;
+  ASSERT_EQ(r.steps.size(), 3u);
+  double prev = 0;
+  for (const auto& s : r.steps) {
+    EXPECT_GT(s.force_N, prev);  // monotone loading
+    prev = s.force_N;
+    // Penetration stays below the augmented-Lagrangian tolerance (0.1 % of d) or close to it.
+    EXPECT_LT(s.max_penetration_mm, 2e-3 * s.displacement_mm);
+    // The surface under the pin follows the pin tip.
+    EXPECT_NEAR(s.top_surface.front().z_mm, 2.5 - s.displacement_mm, 2e-3 * s.displacement_mm);
+    EXPECT_DOUBLE_EQ(s.top_surface.front().r_mm, 0.0);
+    for (std::size_t k = 1; k < s.top_surface.size(); ++k)
+      EXPECT_GT(s.top_surface[k].r_mm, s.top_surface[k - 1].r_mm);
+    for (double J : s.element_J) EXPECT_GT(J, 0);
+  }
+}
+
+TEST(FeSolve, CompressedRegionIsAClosedCcwOutlineUnderThePin) {
+  const auto& s = published().steps.back();
+  ASSERT_FALSE(s.compressed_outlines.empty());
+  double area = 0, elements_area = 0;
+  for (const auto& o : s.compressed_outlines) {
+    EXPECT_GT(signed_area(o), 0);
+    area += signed_area(o);
+  }
+  EXPECT_NEAR(area, s.compressed_area_mm2, 1e-12);
+  // The outline encloses exactly the flagged elements: compare with the sum of their areas.
+  for (std::size_t e = 0; e < s.mesh.quads.size(); ++e) {
+    if (s.element_min_log_strain[e] > -0.5) continue;
+    std::vector<fe::Point2> q;
+    for (int n : s.mesh.quads[e]) q.push_back(s.mesh.nodes[n]);
+    elements_area += signed_area(q);
+  }
+  EXPECT_NEAR(area, elements_area, 1e-9 * area);
+  // Highest strain right under the tip: a point just below it is in the compressed region.
+  EXPECT_LE(s.min_log_strain_at(0.01, s.top_surface.front().z_mm - 0.01), -0.5);
+  EXPECT_TRUE(std::isnan(s.min_log_strain_at(1.0, 3.0)));
+  EXPECT_TRUE(std::isnan(s.min_log_strain_at(-1.0, 1.0)));
+  // Revolved volume lies between the area swept at the smallest and the largest radius.
+  double rmax = 0;
+  for (const auto& o : s.compressed_outlines)
+    for (const auto& p : o) rmax = std::max(rmax, p.r_mm);
+  EXPECT_GT(s.compressed_volume_mm3, 0);
+  EXPECT_LT(s.compressed_volume_mm3, 2 * std::numbers::pi * rmax * area);
+}
+
+TEST(FeSolve, JsonSummaryCarriesTheSteps) {
+  const nlohmann::json j = fe::to_json(published());
+  EXPECT_EQ(j["steps"].size(), 3u);
+  EXPECT_TRUE(j["complete"].get<bool>());
+  EXPECT_NEAR(j["steps"][2]["nominal_strain"].get<double>(), 0.6, 1e-12);
+  EXPECT_FALSE(j["steps"][2]["compressed_outlines"].empty());
+}
+
+TEST(FeSolve, BadInputIsRefused) {
+  fe::FeModel m = fe::FeModel::published_default();
+  m.thickness_mm = -1;
+  EXPECT_THROW(fe::solve(m, {0.5}), fe::FeError);
+  m = fe::FeModel::published_default();
+  EXPECT_THROW(fe::solve(m, {2.5}), fe::FeError);  // displacement reaches the slide
+  EXPECT_THROW(fe::solve(m, {3.0}), fe::FeError);  // beyond the slab
+  EXPECT_THROW(fe::solve(m, {0.5, 0.2}), fe::FeError);
+  EXPECT_THROW(fe::solve(m, {}), fe::FeError);
+  EXPECT_THROW(fe::solve(m, {-0.1}), fe::FeError);
+  m.material.D = {0.0, 0.0, 0.0};  // no bulk modulus
+  EXPECT_THROW(fe::solve(m, {0.5}), fe::FeError);
+  m = fe::FeModel::published_default();
+  m.material = {{0.1, -0.08}, {2.0, 6.0}, {0.5}};  // unstable in compression
+  try {
+    fe::solve(m, {0.5});
+    FAIL() << "unstable material accepted";
+  } catch (const fe::FeError& e) {
+    EXPECT_NE(std::string(e.what()).find("unstable"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(fe::parse_kinematics("3d"), fe::FeError);
+  EXPECT_THROW(fe::parse_bottom("glued"), fe::FeError);
+}
+
+TEST(FeSolve, NonConvergenceGivesAPartialResultThatSaysWhere) {
+  fe::FeModel m = fe::FeModel::published_default();
+  m.solver.max_newton_iterations = 2;  // cannot converge from the first increment
+  m.solver.min_step_mm = 0.01;
+  const fe::FeResult r = fe::solve(m, {0.3, 0.6});
+  EXPECT_FALSE(r.complete);
+  EXPECT_NE(r.stop_reason.find("stopped at"), std::string::npos) << r.stop_reason;
+  EXPECT_LT(r.steps.size(), 2u);
+}

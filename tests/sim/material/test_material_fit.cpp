@@ -1,0 +1,107 @@
+// Levenberg-Marquardt fitting: recovery of known curves from noisy synthetic data, stability
+// reports, CSV parsing and bad input.
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "tocd/sim/material/fit.hpp"
+#include "tocd/sim/material/hyperelastic.hpp"
+
+namespace mat = tocd::sim::material;
+
+namespace {
+// Pin-compression style data: compressive strain magnitudes and stresses, 0.5 % noise.
+void synthetic(const mat::OgdenParameters& p, std::vector<double>& e, std::vector<double>& s, double noise,
+               unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n(0.0, noise);
+  for (int k = 1; k <= 60; ++k) {
+    const double strain = 0.6 * k / 60.0;
+    e.push_back(strain);
+    s.push_back(-mat::ogden_uniaxial_nominal_stress(p, 1 - strain) * (1 + n(rng)));
+  }
+}
+}  // namespace
+
+TEST(MaterialFit, RecoversPublishedOgdenCurveFromNoisyData) {
+  const auto truth = mat::OgdenParameters::published_skin();
+  std::vector<double> e, s;
+  synthetic(truth, e, s, 0.005, 7);
+  double r3_rms = 0;
+  {
+    const auto model = mat::FitModel::ogden3;
+    const mat::FitResult r = mat::fit_uniaxial(e, s, model);
+    ASSERT_TRUE(r.has_ogden_form);
+    for (std::size_t k = 0; k < e.size(); ++k) {
+      const double want = -mat::ogden_uniaxial_nominal_stress(truth, 1 - e[k]);
+      const double got = -mat::ogden_uniaxial_nominal_stress(r.ogden, 1 - e[k]);
+      EXPECT_NEAR(got, want, 0.01 * want) << mat::to_string(model) << " at strain " << e[k];
+    }
+    EXPECT_GT(r.r_squared, 0.999);
+    EXPECT_TRUE(r.stability.stable) << r.stability.first_failure;
+    EXPECT_NEAR(r.ogden.initial_poisson_ratio(), 0.49, 1e-9);
+    r3_rms = r.rms_MPa;
+  }
+  // Fewer terms still describe the curve, less well.
+  const mat::FitResult o1 = mat::fit_uniaxial(e, s, mat::FitModel::ogden1);
+  EXPECT_GT(o1.r_squared, 0.9);
+  EXPECT_LT(r3_rms, o1.rms_MPa);
+}
+
+TEST(MaterialFit, LinearModelsRecoverTheirOwnCurves) {
+  // Mooney-Rivlin truth = Ogden (2 C10, 2), (2 C01, -2).
+  const mat::OgdenParameters mr{{2 * 0.004, 2 * 0.001}, {2.0, -2.0}, {}};
+  std::vector<double> e, s;
+  synthetic(mr, e, s, 0.0, 1);
+  const mat::FitResult r = mat::fit_uniaxial(e, s, mat::FitModel::mooney_rivlin);
+  EXPECT_NEAR(r.values[0], 0.004, 1e-9);
+  EXPECT_NEAR(r.values[1], 0.001, 1e-9);
+  const mat::FitResult nh = mat::fit_uniaxial(e, s, mat::FitModel::neo_hookean);
+  EXPECT_GT(nh.rms_MPa, r.rms_MPa);  // fewer parameters fit worse
+  const mat::FitResult y = mat::fit_uniaxial(e, s, mat::FitModel::yeoh);
+  EXPECT_FALSE(y.has_ogden_form);
+  EXPECT_GT(y.r_squared, 0.99);
+}
+
+TEST(MaterialFit, ReportsInstability) {
+  // mu_1 alpha_1 > 0 small-strain, but the second term softens and wins in compression.
+  const auto law = mat::make_ogden({{0.1, -0.08}, {2.0, 6.0}, {}});
+  const mat::StabilityReport rep = mat::check_stability(*law, 0.3, 1 / 0.3);
+  EXPECT_FALSE(rep.stable);
+  EXPECT_FALSE(rep.first_failure.empty());
+  const auto skin = mat::make_ogden(mat::OgdenParameters::published_skin());
+  EXPECT_TRUE(mat::check_stability(*skin, 0.15, 1 / 0.15).stable);
+}
+
+TEST(MaterialFit, BadInputIsRejectedWithAMessage) {
+  EXPECT_THROW(mat::fit_uniaxial({0.1, 0.2}, {1.0}, mat::FitModel::ogden1), mat::MaterialError);
+  EXPECT_THROW(mat::fit_uniaxial({0.1, 0.2, 0.3}, {1, 2, 3}, mat::FitModel::ogden3), mat::MaterialError);
+  EXPECT_THROW(mat::fit_uniaxial({0.1, -0.2, 0.3}, {1, 2, 3}, mat::FitModel::neo_hookean),
+               mat::MaterialError);
+  EXPECT_THROW(mat::fit_uniaxial({0.1, 1.2, 0.3}, {1, 2, 3}, mat::FitModel::neo_hookean), mat::MaterialError);
+  EXPECT_THROW(mat::fit_uniaxial({0.1, 0.2, 0.3}, {0, 0, 0}, mat::FitModel::neo_hookean), mat::MaterialError);
+  EXPECT_THROW(mat::parse_fit_model("ogden4"), mat::MaterialError);
+  try {
+    mat::fit_uniaxial({0.1, NAN, 0.3}, {1, 2, 3}, mat::FitModel::neo_hookean);
+    FAIL();
+  } catch (const mat::MaterialError& e) {
+    EXPECT_NE(std::string(e.what()).find("point 2"), std::string::npos) << e.what();
+  }
+}
+
+TEST(MaterialFit, CsvParsing) {
+  const auto d =
+      mat::parse_stress_strain_csv("strain,stress\n# comment\n0.1, 0.002\n0.2;0.005\n\n0.3\t0.01\n", "t.csv");
+  ASSERT_EQ(d.strain.size(), 3u);
+  EXPECT_DOUBLE_EQ(d.stress[2], 0.01);
+  try {
+    mat::parse_stress_strain_csv("0.1,0.2\n0.2,abc\n", "bad.csv");
+    FAIL();
+  } catch (const mat::MaterialError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.csv line 2"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(mat::parse_stress_strain_csv("# nothing\n", "empty.csv"), mat::MaterialError);
+  EXPECT_THROW(mat::parse_stress_strain_csv("1,2,3\n", "three.csv"), mat::MaterialError);
+  EXPECT_THROW(mat::read_stress_strain_csv("/nonexistent/x.csv"), mat::MaterialError);
+}

@@ -1,0 +1,77 @@
+// `tocdlab fit`: fit a hyperelastic law to nominal stress-strain data (docs/fe.md, "Fitting").
+#include "tocd/sim/material/fit.hpp"
+
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "command_registry.hpp"
+
+namespace {
+
+struct FitCliOptions {
+  std::string csv, model = "ogden3";
+  double poisson = 0.49;
+  bool signed_data = false, json = false;
+};
+
+void run_fit(const FitCliOptions& o) {
+  namespace mat = tocd::sim::material;
+  const mat::StressStrainData d = mat::read_stress_strain_csv(o.csv);
+  mat::FitOptions opt;
+  opt.compression = !o.signed_data;
+  opt.poisson_ratio = o.poisson;
+  const mat::FitResult r = mat::fit_uniaxial(d.strain, d.stress, mat::parse_fit_model(o.model), opt);
+  if (o.json) {
+    nlohmann::json j;
+    j["model"] = mat::to_string(r.model);
+    j["points"] = d.strain.size();
+    for (std::size_t k = 0; k < r.names.size(); ++k) j["parameters"][r.names[k]] = r.values[k];
+    j["D"] = r.D;
+    if (r.has_ogden_form)
+      j["ogden"] = {{"mu_MPa", r.ogden.mu}, {"alpha", r.ogden.alpha}, {"D_per_MPa", r.ogden.D}};
+    j["rms_MPa"] = r.rms_MPa;
+    j["r_squared"] = r.r_squared;
+    j["max_abs_residual_MPa"] = r.max_abs_residual_MPa;
+    j["residuals_MPa"] = r.residuals;
+    j["converged"] = r.converged;
+    j["stability"] = {{"stable", r.stability.stable},
+                      {"lambda_min", r.stability.lambda_min},
+                      {"lambda_max", r.stability.lambda_max},
+                      {"first_failure", r.stability.first_failure}};
+    std::cout << j.dump(2) << '\n';
+    return;
+  }
+  std::cout << fmt::format("{} fit to {} points ({})\n", mat::to_string(r.model), d.strain.size(),
+                           opt.compression ? "uniaxial compression magnitudes" : "signed nominal data");
+  for (std::size_t k = 0; k < r.names.size(); ++k)
+    std::cout << fmt::format("  {:<7} {:>14.6g}\n", r.names[k], r.values[k]);
+  std::cout << fmt::format("  {:<7} {:>14.6g}  (1/MPa, from Poisson's ratio {})\n", "D1", r.D[0], o.poisson);
+  std::cout << fmt::format("  rms residual {:.4g} MPa, max {:.4g} MPa, R^2 {:.6f}\n", r.rms_MPa,
+                           r.max_abs_residual_MPa, r.r_squared);
+  std::cout << fmt::format("  Drucker stability over stretch [{:.3g}, {:.3g}]: {}\n", r.stability.lambda_min,
+                           r.stability.lambda_max,
+                           r.stability.stable ? "stable" : "UNSTABLE (" + r.stability.first_failure + ")");
+}
+
+void install_fit(CLI::App& root) {
+  auto* cmd =
+      root.add_subcommand("fit", "Fit a hyperelastic law to nominal stress-strain data (see docs/fe.md)");
+  auto o = std::make_shared<FitCliOptions>();
+  cmd->add_option("--csv", o->csv, "two columns: strain, stress [MPa] (compression magnitudes by default)")
+      ->required();
+  cmd->add_option("--model", o->model, "ogden1 | ogden2 | ogden3 | neo-hookean | mooney-rivlin | yeoh")
+      ->capture_default_str();
+  cmd->add_option("--poisson", o->poisson, "Poisson's ratio that sets D1 from the fitted shear modulus")
+      ->capture_default_str();
+  cmd->add_flag("--signed", o->signed_data, "data are signed nominal strain/stress (tension positive)");
+  cmd->add_flag("--json", o->json, "machine-readable output");
+  cmd->callback([o] { run_fit(*o); });
+}
+
+}  // namespace
+
+TOCD_CLI_COMMAND(fit, install_fit);
