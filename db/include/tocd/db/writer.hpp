@@ -26,7 +26,8 @@ struct WriterStats {
   std::uint64_t enqueued = 0;  // accepted by enqueue
   std::uint64_t written = 0;   // committed to the file
   std::uint64_t dropped = 0;   // refused by enqueue because the queue was full
-  std::uint64_t rejected = 0;  // not storable (unknown channel id); see last_error
+  std::uint64_t rejected = 0;  // not storable (unknown channel or run id); see last_error
+  std::uint64_t failed = 0;    // lost to a database error (disk full, ...); see last_error
   std::uint64_t batches = 0;   // committed transactions
   std::size_t queue_depth = 0;
   std::size_t queue_high_water = 0;
