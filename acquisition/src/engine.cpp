@@ -12,18 +12,30 @@ namespace tocd::acquisition {
 
 std::string_view to_string(EngineState s) noexcept {
   switch (s) {
-    case EngineState::idle: return "idle";
-    case EngineState::starting: return "starting";
-    case EngineState::moving: return "moving";
-    case EngineState::settling: return "settling";
-    case EngineState::holding: return "holding";
-    case EngineState::recording: return "recording";
-    case EngineState::paused: return "paused";
-    case EngineState::retracting: return "retracting";
-    case EngineState::completed: return "completed";
-    case EngineState::aborted: return "aborted";
-    case EngineState::interrupted: return "interrupted";
-    case EngineState::failed: return "failed";
+    case EngineState::idle:
+      return "idle";
+    case EngineState::starting:
+      return "starting";
+    case EngineState::moving:
+      return "moving";
+    case EngineState::settling:
+      return "settling";
+    case EngineState::holding:
+      return "holding";
+    case EngineState::recording:
+      return "recording";
+    case EngineState::paused:
+      return "paused";
+    case EngineState::retracting:
+      return "retracting";
+    case EngineState::completed:
+      return "completed";
+    case EngineState::aborted:
+      return "aborted";
+    case EngineState::interrupted:
+      return "interrupted";
+    case EngineState::failed:
+      return "failed";
   }
   return "unknown";
 }
@@ -171,7 +183,8 @@ std::int64_t Engine::resume(std::int64_t run_id) {
   m.protocol = parse_protocol(before.protocol_text, fmt::format("run {} protocol", run_id));
   check_instruments(m.protocol, m.inst);
   if (!(before.baseline_power_W > 0.0)) {
-    throw EngineError(fmt::format("run {} has no glass-only baseline power stored; it cannot be resumed", run_id));
+    throw EngineError(
+        fmt::format("run {} has no glass-only baseline power stored; it cannot be resumed", run_id));
   }
   m.baseline_W = before.baseline_power_W;
 
@@ -206,8 +219,8 @@ void Engine::Impl::start_threads() {
   pressure_window.set_keep(2.0 * protocol.settle.window_s + 1.0);
   segment_start_ns = clock.now_ns();
   current_step = first_step;
-  set_state(EngineState::starting, fmt::format("run {} from step {} of {}", run_id, first_step + 1,
-                                               protocol.steps.size()));
+  set_state(EngineState::starting,
+            fmt::format("run {} from step {} of {}", run_id, first_step + 1, protocol.steps.size()));
   if (inst.tester) pollers.emplace_back([this] { run_tester_poller(); });
   pollers.emplace_back([this] { run_power_poller(); });
   if (inst.vacuum) pollers.emplace_back([this] { run_vacuum_poller(); });
@@ -303,9 +316,13 @@ EngineState Engine::state() const {
   return impl_->state;
 }
 
-std::int64_t Engine::run_id() const { return impl_->run_id; }
+std::int64_t Engine::run_id() const {
+  return impl_->run_id;
+}
 
-Progress Engine::progress() const { return impl_->make_progress(); }
+Progress Engine::progress() const {
+  return impl_->make_progress();
+}
 
 EngineStats Engine::stats() const {
   EngineStats s;

@@ -24,7 +24,8 @@ namespace tocd::acquisition {
 
 /// Channel slots of a run (index into the per-channel arrays).
 enum Slot : int { kDisplacement = 0, kLoad = 1, kPower = 2, kPressure = 3, kSlots = 4 };
-inline constexpr std::array<std::string_view, kSlots> kChannelNames{"displacement", "load", "power", "pressure"};
+inline constexpr std::array<std::string_view, kSlots> kChannelNames{"displacement", "load", "power",
+                                                                    "pressure"};
 inline constexpr std::array<std::string_view, kSlots> kChannelUnits{"mm", "N", "W", "kPa"};
 
 /// What interrupted a wait of the sequencer, strongest first.
@@ -34,8 +35,14 @@ enum class Interrupt { none, trip, abort, pause };
 using DriverCommand = std::function<void()>;
 
 struct Engine::Impl {
-  Impl(db::Database& d, InstrumentSet i, EngineOptions o, std::shared_ptr<StepPredictor> p, EngineObserver* obs)
-      : db(d), inst(std::move(i)), opt(std::move(o)), predictor(std::move(p)), observer(obs), clock(opt.clock_factor) {}
+  Impl(db::Database& d, InstrumentSet i, EngineOptions o, std::shared_ptr<StepPredictor> p,
+       EngineObserver* obs)
+      : db(d),
+        inst(std::move(i)),
+        opt(std::move(o)),
+        predictor(std::move(p)),
+        observer(obs),
+        clock(opt.clock_factor) {}
 
   db::Database& db;
   InstrumentSet inst;

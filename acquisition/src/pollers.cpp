@@ -59,7 +59,8 @@ class FaultTracker {
   }
   void succeeded() {
     if (count_ == 0) return;
-    m_.emit_event("retry", fmt::format("{}: recovered after {} failed reads", instrument_, count_), current_step());
+    m_.emit_event("retry", fmt::format("{}: recovered after {} failed reads", instrument_, count_),
+                  current_step());
     count_ = 0;
   }
 
@@ -183,7 +184,8 @@ void Engine::Impl::run_tester_poller() {
         // Stop first (this thread owns the driver, so no queue in between), then say why.
         std::string why;
         if (r.load_N > max_load) {
-          why = fmt::format("load {:.3f} N above the {:.3f} N limit at displacement {:.4f} mm", r.load_N, max_load, d);
+          why = fmt::format("load {:.3f} N above the {:.3f} N limit at displacement {:.4f} mm", r.load_N,
+                            max_load, d);
         } else if ((r.status.limit || r.status.fault) && !limit_reported) {
           why = fmt::format("mechanical tester reports {} (fault code {}) at displacement {:.4f} mm",
                             r.status.limit ? "a limit" : "a fault", r.status.fault_code, d);
@@ -263,7 +265,8 @@ void Engine::Impl::run_vacuum_poller() {
       if (seal_watch && r.pressure_kPa > seal_setpoint_kPa + protocol.interlocks.vacuum_loss_kPa) {
         seal_watch = false;
         request_pause(fmt::format("vacuum seal loss: {:.2f} kPa, setpoint {:.2f} kPa (limit +{:.2f} kPa)",
-                                  r.pressure_kPa, seal_setpoint_kPa.load(), protocol.interlocks.vacuum_loss_kPa));
+                                  r.pressure_kPa, seal_setpoint_kPa.load(),
+                                  protocol.interlocks.vacuum_loss_kPa));
       }
     } catch (const devices::DeviceError& e) {
       if (!faults.failed(e)) break;

@@ -29,7 +29,8 @@ void Engine::Impl::run_predictions() {
       try {
         pending.emplace_back(step, predictor->predict(step));
       } catch (const std::exception& e) {
-        emit_event("prediction", fmt::format("step {}: prediction could not start: {}", step.index + 1, e.what()),
+        emit_event("prediction",
+                   fmt::format("step {}: prediction could not start: {}", step.index + 1, e.what()),
                    step.index);
       }
     }
@@ -52,12 +53,13 @@ void Engine::Impl::run_predictions() {
       rec.summary_json = p.summary_json;
       db.add_prediction(rec);
       emit_event("prediction",
-                 fmt::format("step {}: predicted T = {:.5f} +- {:.5f} (measured {:.5f}), {:.1f} s", step.index + 1, p.T,
-                             p.T_stderr, step.measured_T, p.seconds),
+                 fmt::format("step {}: predicted T = {:.5f} +- {:.5f} (measured {:.5f}), {:.1f} s",
+                             step.index + 1, p.T, p.T_stderr, step.measured_T, p.seconds),
                  step.index);
       if (observer) observer->on_prediction(step.index, p);
     } catch (const std::exception& e) {
-      emit_event("prediction", fmt::format("step {}: prediction failed: {}", step.index + 1, e.what()), step.index);
+      emit_event("prediction", fmt::format("step {}: prediction failed: {}", step.index + 1, e.what()),
+                 step.index);
     }
     pending.pop_front();
   }

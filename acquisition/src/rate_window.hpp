@@ -44,7 +44,8 @@ class RateWindow {
       stt += t * t;
       stv += t * p.value;
     }
-    if (n < 3 || static_cast<double>(last - first) < 0.9 * static_cast<double>(window_ns)) return std::nullopt;
+    if (n < 3 || static_cast<double>(last - first) < 0.9 * static_cast<double>(window_ns))
+      return std::nullopt;
     const double den = n * stt - st * st;
     if (!(den > 0)) return std::nullopt;
     return (n * stv - st * sv) / den;

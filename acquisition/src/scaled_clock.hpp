@@ -16,7 +16,8 @@ class ScaledClock {
       : factor_(factor), start_ns_(start_ns), real_start_ns_(monotonic_ns()) {}
 
   std::int64_t now_ns() const noexcept {
-    return start_ns_ + static_cast<std::int64_t>(static_cast<double>(monotonic_ns() - real_start_ns_) * factor_);
+    return start_ns_ +
+           static_cast<std::int64_t>(static_cast<double>(monotonic_ns() - real_start_ns_) * factor_);
   }
   double factor() const noexcept { return factor_; }
   /// Real duration of `sim_s` simulated seconds.

@@ -56,9 +56,11 @@ void Engine::Impl::send_vacuum(DriverCommand cmd) {
   vacuum_cmds.push_back(std::move(cmd));
 }
 
-bool Engine::Impl::move_and_wait(double position_mm, double speed_mm_per_s, bool interruptible, Interrupt& why) {
+bool Engine::Impl::move_and_wait(double position_mm, double speed_mm_per_s, bool interruptible,
+                                 Interrupt& why) {
   const double from = latest[kDisplacement] + protocol.contact_position_mm;
-  const double travel = std::isfinite(from) ? std::abs(position_mm - from) : protocol.sample.thickness_mm + 10.0;
+  const double travel =
+      std::isfinite(from) ? std::abs(position_mm - from) : protocol.sample.thickness_mm + 10.0;
   send_tester([this, position_mm, speed_mm_per_s] { inst.tester->move_to(position_mm, speed_mm_per_s); });
   const std::uint64_t my_cmd = tester_commands_sent;
   bool arrived = false;
@@ -193,12 +195,13 @@ Interrupt Engine::Impl::run_step(const ProtocolStep& step) {
   r.samples = stats[kPower].n();
   r.settled = settled;
   emit_event("step",
-             fmt::format("step {}/{} recorded: T = {:.5f} ({} power readings), load {:.4f} N", step.index + 1, n,
-                         r.measured_T, r.samples, r.load_N),
+             fmt::format("step {}/{} recorded: T = {:.5f} ({} power readings), load {:.4f} N", step.index + 1,
+                         n, r.measured_T, r.samples, r.load_N),
              step.index);
   if (observer) observer->on_step_recorded(r);
   if (!vacuum && predictor) {
-    queue_prediction({run_id, step.index, step.displacement_mm, protocol.sample.thickness_mm, r.load_N, r.measured_T});
+    queue_prediction(
+        {run_id, step.index, step.displacement_mm, protocol.sample.thickness_mm, r.load_N, r.measured_T});
   }
   return Interrupt::none;
 }

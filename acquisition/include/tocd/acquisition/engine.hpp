@@ -64,12 +64,12 @@ struct StepResult {
   int index = 0;
   int step_count = 0;
   double displacement_mm = 0, nominal_strain = 0, pressure_kPa = 0;  ///< targets
-  double load_N = 0, load_std_N = 0;            ///< NaN without a tester
-  double power_W = 0, power_std_W = 0;          ///< mean / std over the recording window
-  double measured_pressure_kPa = 0;             ///< NaN without a vacuum controller
-  double measured_T = 0;                        ///< power / baseline power
-  std::int64_t samples = 0;                     ///< power samples in the window
-  bool settled = true;                          ///< false: max_wait_s ran out first
+  double load_N = 0, load_std_N = 0;                                 ///< NaN without a tester
+  double power_W = 0, power_std_W = 0;                               ///< mean / std over the recording window
+  double measured_pressure_kPa = 0;                                  ///< NaN without a vacuum controller
+  double measured_T = 0;                                             ///< power / baseline power
+  std::int64_t samples = 0;                                          ///< power samples in the window
+  bool settled = true;                                               ///< false: max_wait_s ran out first
 };
 
 /// Where a running protocol is, for progress lines and status bars.
@@ -189,7 +189,7 @@ class Engine {
   /// Why the run ended interrupted/failed ("" otherwise).
   std::string error() const;
 
- struct Impl;  ///< defined in acquisition/src only
+  struct Impl;  ///< defined in acquisition/src only
 
  private:
   std::unique_ptr<Impl> impl_;

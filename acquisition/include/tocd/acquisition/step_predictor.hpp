@@ -22,7 +22,7 @@ struct PredictedStep {
   std::string config_json;  ///< everything needed to reproduce the prediction
   double seconds = 0;       ///< wall time of the prediction
   double fe_seconds = -1, mesh_seconds = -1, mc_seconds = -1;  ///< < 0 = not reported
-  std::string summary_json;                                     ///< optional extras ("" = none)
+  std::string summary_json;                                    ///< optional extras ("" = none)
 };
 
 /// Predicts a recorded step's transmission. Implemented over sim::study::Predictor in
