@@ -6,6 +6,7 @@
 
 #include "fake_rig.hpp"
 #include "protocol_text.hpp"
+#include "tocd/acquisition/compare_table.hpp"
 #include "tocd/acquisition/engine.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
@@ -124,6 +125,16 @@ TEST_F(EngineTest, RecordsStepsWithTransmissionLoadAndPredictions) {
     EXPECT_NEAR(row.prediction->T, 1.02 * row.step.measured_transmission, 1e-12);
     EXPECT_NEAR(row.relative_difference, 0.02, 1e-9);
   }
+  // The compare table shows each step with its prediction and the relative difference.
+  const CompareTable table = compare_table(r, run);
+  ASSERT_EQ(table.lines.size(), 3u);
+  EXPECT_DOUBLE_EQ(table.lines[1].displacement_mm, 0.5);
+  EXPECT_NEAR(table.lines[1].load_N, world->equilibrium_load_N(0.5), 0.05);
+  const std::string text = format_compare_table(table);
+  EXPECT_NE(text.find(fmt::format("{:.5f} +- 0.00100", table.lines[2].predicted_T)), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("+2.00 %"), std::string::npos) << text;
+  EXPECT_EQ(to_json(table)["steps"][2]["predicted_T"].get<double>(), table.lines[2].predicted_T);
   EXPECT_EQ(obs.predictions, 3);
   EXPECT_EQ(obs.step_count(), 3);
   EXPECT_GT(obs.live, 100);

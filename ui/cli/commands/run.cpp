@@ -60,6 +60,9 @@ void run_protocol(const RunOptions& o) {
   std::optional<acq::Protocol> fresh;
   if (!o.resume) fresh = acq::load_protocol(o.protocol);
 
+  // Before any thread starts (simulated lab servers, drivers, engine): every thread then
+  // inherits the blocked SIGINT/SIGTERM and only the watcher sees them.
+  tocd::cli::AbortOnSignal signals(std::cerr);
   tocd::db::Database db(o.db);
   const acq::Protocol protocol =
       fresh ? *fresh
@@ -84,7 +87,6 @@ void run_protocol(const RunOptions& o) {
   eo.operator_name = o.operator_name;
   eo.lab_config_text = lab_text;
   tocd::cli::TerminalProgress progress(std::cout, ::isatty(STDOUT_FILENO) != 0);
-  tocd::cli::AbortOnSignal signals(std::cerr);
   acq::EngineState final_state;
   std::int64_t run_id = 0;
   std::string error;
@@ -92,7 +94,8 @@ void run_protocol(const RunOptions& o) {
     acq::Engine engine(db, std::move(instruments), eo, nullptr, &progress);
     signals.attach(&engine);
     run_id = o.resume ? engine.resume(*o.resume) : engine.start(protocol);
-    std::cout << fmt::format("run {} ({} steps) recording into {}\n", run_id, protocol.steps.size(), o.db);
+    std::cout << fmt::format("run {} ({} steps) recording into {}", run_id, protocol.steps.size(), o.db)
+              << std::endl;
     final_state = engine.wait();
     error = engine.error();
     signals.attach(nullptr);
