@@ -189,24 +189,30 @@ std::int64_t Engine::resume(std::int64_t run_id) {
   m.baseline_W = before.baseline_power_W;
 
   const db::ResumePoint rp = m.db.resume_run(run_id);
-  m.run_id = run_id;
-  // Keep the run's timestamps increasing across the gap, also with a fast simulated clock.
-  m.clock = ScaledClock(m.opt.clock_factor, std::max({monotonic_ns(), rp.gap_to_t_ns, rp.gap_from_t_ns + 1}));
-  m.first_step = rp.first_incomplete_step;
-
-  const db::Reader reader(m.db.path());
-  const std::array<bool, kSlots> present{bool(m.inst.tester), bool(m.inst.tester), true, bool(m.inst.vacuum)};
-  for (int s = 0; s < kSlots; ++s) {
-    if (!present[s]) continue;
-    if (auto c = reader.channel(run_id, std::string(kChannelNames[s]))) {
-      m.channel[s] = c->id;
-    } else {
-      db::Channel c2;
-      c2.run_id = run_id;
-      c2.name = std::string(kChannelNames[s]);
-      c2.unit = std::string(kChannelUnits[s]);
-      m.channel[s] = m.db.add_channel(c2).id;
+  try {
+    m.run_id = run_id;
+    // Keep the run's timestamps increasing across the gap, also with a fast simulated clock.
+    m.clock =
+        ScaledClock(m.opt.clock_factor, std::max({monotonic_ns(), rp.gap_to_t_ns, rp.gap_from_t_ns + 1}));
+    m.first_step = rp.first_incomplete_step;
+    const db::Reader reader(m.db.path());
+    const std::array<bool, kSlots> present{bool(m.inst.tester), bool(m.inst.tester), true,
+                                           bool(m.inst.vacuum)};
+    for (int s = 0; s < kSlots; ++s) {
+      if (!present[s]) continue;
+      if (auto c = reader.channel(run_id, std::string(kChannelNames[s]))) {
+        m.channel[s] = c->id;
+      } else {
+        db::Channel c2;
+        c2.run_id = run_id;
+        c2.name = std::string(kChannelNames[s]);
+        c2.unit = std::string(kChannelUnits[s]);
+        m.channel[s] = m.db.add_channel(c2).id;
+      }
     }
+  } catch (...) {
+    m.db.set_run_status(run_id, db::RunStatus::interrupted);
+    throw;
   }
   if (m.observer) m.observer->on_event(rp.gap_event);
   m.start_threads();

@@ -293,7 +293,8 @@ void Engine::Impl::finish(EngineState final_state, const std::string& why) {
     std::lock_guard lock(mu);
     if (final_state == EngineState::interrupted || final_state == EngineState::failed) error = why;
   }
-  set_state(final_state, why);
+  // Everything is in the file and the run has its final status before anyone hears of the
+  // final state.
   writer->stop();
   const db::RunStatus status = final_state == EngineState::completed ? db::RunStatus::completed
                                : final_state == EngineState::aborted ? db::RunStatus::aborted
@@ -303,6 +304,7 @@ void Engine::Impl::finish(EngineState final_state, const std::string& why) {
   } catch (const std::exception& e) {
     logger("acquisition")->error("run {}: cannot set status {}: {}", run_id, db::to_string(status), e.what());
   }
+  set_state(final_state, why);
   {
     std::lock_guard lock(pred_mu);
     pred_stop = true;
