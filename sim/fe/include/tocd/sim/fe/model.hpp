@@ -23,20 +23,23 @@ struct Point2 {
 enum class Kinematics { axisymmetric, plane_strain, plane_stress };
 enum class Bottom { bonded, sliding };
 
-Kinematics parse_kinematics(const std::string& s);  ///< "axi" | "axisymmetric" | "plane-strain" | "plane-stress"
-Bottom parse_bottom(const std::string& s);          ///< "bonded" | "sliding"
+Kinematics parse_kinematics(
+    const std::string& s);                  ///< "axi" | "axisymmetric" | "plane-strain" | "plane-stress"
+Bottom parse_bottom(const std::string& s);  ///< "bonded" | "sliding"
 std::string to_string(Kinematics k);
 std::string to_string(Bottom b);
 
 /// Numerical controls; the defaults suit the published case and thinner skins.
 struct FeSolverSettings {
-  int max_newton_iterations = 25;     ///< per load increment before it is cut back
-  double initial_step_mm = 0.05;      ///< first displacement increment
-  double min_step_mm = 1e-5;          ///< give up (partial result) below this increment
-  double max_step_mm = 0.1;           ///< largest displacement increment
-  double penalty_factor = 200;        ///< contact penalty / current nodal stiffness
-  double penetration_tolerance = 2e-3;  ///< augmented-Lagrangian target, fraction of the increment-free gap scale (mm)
-  double residual_tolerance = 1e-8;   ///< relative to the reaction force scale
+  int max_newton_iterations = 25;  ///< per load increment before it is cut back
+  double initial_step_mm = 0.05;   ///< first displacement increment
+  double min_step_mm = 1e-5;       ///< give up (partial result) below this increment
+  double max_step_mm = 0.1;        ///< largest displacement increment
+  double penalty_factor = 200;     ///< contact penalty / current nodal stiffness
+  /// Augmented-Lagrangian target: largest penetration as a fraction of the pin displacement.
+  double penetration_tolerance = 1e-3;
+  int max_augmentations = 6;         ///< multiplier updates per increment
+  double residual_tolerance = 1e-8;  ///< out-of-balance force relative to the internal force scale
 };
 
 struct FeModel {
@@ -46,7 +49,7 @@ struct FeModel {
   Kinematics kinematics = Kinematics::axisymmetric;
   Bottom bottom = Bottom::bonded;
   tocd::sim::material::OgdenParameters material;  ///< Abaqus-form Ogden (mu_i, alpha_i, D_i)
-  double mesh_refinement = 1.0;   ///< 2.0 = twice as fine in each direction
+  double mesh_refinement = 1.0;                   ///< 2.0 = twice as fine in each direction
   /// Plane kinematics only: out-of-plane depth of the section [mm]; the reported force is
   /// for the full width (both halves) times this depth.
   double depth_mm = 1.0;

@@ -30,13 +30,13 @@ struct FeStepResult {
   double compressed_area_mm2 = 0;
   /// Axisymmetric: revolved volume 2 pi int r dA. Plane kinematics: area x depth_mm.
   double compressed_volume_mm3 = 0;
-  int newton_iterations = 0;   ///< Newton iterations spent since the previous reported step
-  int load_increments = 0;     ///< accepted increments since the previous reported step
+  int newton_iterations = 0;  ///< Newton iterations spent since the previous reported step
+  int load_increments = 0;    ///< accepted increments since the previous reported step
   double max_penetration_mm = 0;
   double contact_radius_mm = 0;  ///< largest deformed r of a node in contact
 
-  FeMesh mesh;                              ///< deformed mesh
-  std::vector<Point2> displacement;         ///< per node [mm]
+  FeMesh mesh;                                 ///< deformed mesh
+  std::vector<Point2> displacement;            ///< per node [mm]
   std::vector<double> element_min_log_strain;  ///< min principal log strain per element (centroid)
   std::vector<double> element_J;               ///< volume ratio per element (mean dilatation)
 
@@ -53,7 +53,7 @@ struct FeResult {
   FeModel model;
   std::vector<FeStepResult> steps;  ///< one per requested displacement that was reached
   bool complete = false;
-  std::string stop_reason;          ///< empty when complete
+  std::string stop_reason;  ///< empty when complete
   int total_newton_iterations = 0;
   int total_load_increments = 0;
   double seconds = 0;

@@ -39,15 +39,15 @@ struct FitResult {
   /// Model parameters by name, in model order: mu1, alpha1, ... (Ogden) or C10, C01, C20, C30.
   std::vector<std::string> names;
   std::vector<double> values;
-  OgdenParameters ogden;       ///< equivalent Ogden form for Ogden, Neo-Hookean and Mooney-Rivlin
-  bool has_ogden_form = false; ///< false for Yeoh
-  std::vector<double> D;       ///< D_i from FitOptions::poisson_ratio
+  OgdenParameters ogden;              ///< equivalent Ogden form for Ogden, Neo-Hookean and Mooney-Rivlin
+  bool has_ogden_form = false;        ///< false for Yeoh
+  std::vector<double> D;              ///< D_i from FitOptions::poisson_ratio
   std::vector<double> fitted_stress;  ///< model stress at each data point (input convention)
   std::vector<double> residuals;      ///< fitted - measured [MPa]
   double rms_MPa = 0, r_squared = 0, max_abs_residual_MPa = 0;
   int iterations = 0;
   bool converged = false;
-  StabilityReport stability;   ///< over the fitted stretch range
+  StabilityReport stability;  ///< over the fitted stretch range
 };
 
 /// Levenberg-Marquardt least-squares fit of `model` to nominal stress-strain data in uniaxial
