@@ -29,13 +29,13 @@ ResolvedSize resolve_size(const MeshSize& size) {
   double volume_factor = 1.0;
   if (size.preset == "fast") {
     r.edge_mm = 0.4;
-    volume_factor = 8.0;
+    volume_factor = 16.0;
     r.azimuth_segments = 32;
     r.radius_edge_ratio = 1.5;
     r.min_dihedral_deg = 10.0;
   } else if (size.preset == "paper") {
     r.edge_mm = 0.2;
-    volume_factor = 2.0;
+    volume_factor = 6.0;
     r.azimuth_segments = 64;
     r.radius_edge_ratio = 1.4;
     r.min_dihedral_deg = 12.0;
