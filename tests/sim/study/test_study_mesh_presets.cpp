@@ -24,6 +24,7 @@ TEST(StudyMeshPresets, FastAndPaperMeshesAgree) {
     std::printf("d %.3f: fast %.5f+-%.5f (%zu tets), paper %.5f+-%.5f (%zu tets)\n", d, fast.T, fast.T_stderr,
                 fast.tets, paper.T, paper.T_stderr, paper.tets);
     EXPECT_GT(paper.tets, fast.tets);
-    EXPECT_LT(std::abs(fast.T - paper.T), 3.0 * std::hypot(fast.T_stderr, paper.T_stderr) + 0.01 * paper.T) << d;
+    EXPECT_LT(std::abs(fast.T - paper.T), 3.0 * std::hypot(fast.T_stderr, paper.T_stderr) + 0.01 * paper.T)
+        << d;
   }
 }
