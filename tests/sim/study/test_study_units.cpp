@@ -246,6 +246,24 @@ TEST(StudyProfileAdapter, TidiesTheFeOutlines) {
   EXPECT_DOUBLE_EQ(q.top_surface[0].r_mm, 0.0);
 }
 
+TEST(StudyProfileAdapter, InsetsOutlinesFromTheContactSurface) {
+  tocd::sim::fe::FeStepResult step;
+  step.top_surface = {{0.0, 1.0}, {0.5, 1.1}, {1.0, 1.4}, {6.25, 2.5}};
+  // Compressed zone under the pin: up the axis to the surface, along it, down, back.
+  step.compressed_outlines = {{{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.4}, {0.5, 1.1}, {0.0, 1.0}, {0.0, 0.98}, {0.0, 0.5}}};
+  const auto p = st::to_skin_profile(step, 2.5, 0.05);
+  ASSERT_EQ(p.compressed_outlines.size(), 1u);
+  const auto& o = p.compressed_outlines[0];
+  // (0, 0.98) lay between the lowered axis point (0, 0.95) and the rest: dropped.
+  ASSERT_EQ(o.size(), 6u);
+  EXPECT_DOUBLE_EQ(o[2].z_mm, 1.35);
+  EXPECT_DOUBLE_EQ(o[3].z_mm, 1.05);
+  EXPECT_DOUBLE_EQ(o[4].z_mm, 0.95);
+  EXPECT_DOUBLE_EQ(o[5].z_mm, 0.5);
+  const auto raw = st::to_skin_profile(step, 2.5, 0.0);
+  EXPECT_EQ(raw.compressed_outlines[0].size(), 7u);
+}
+
 TEST(StudyConfig, RoundTripsAndRejectsBadRequests) {
   st::PredictionRequest r;
   r.displacement_mm = 0.8;
