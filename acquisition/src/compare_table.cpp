@@ -86,4 +86,18 @@ nlohmann::json to_json(const CompareTable& t) {
   return j;
 }
 
+std::string format_compare_csv(const CompareTable& t) {
+  auto v = [](double x) { return std::isfinite(x) ? fmt::format("{:.9g}", x) : std::string(); };
+  std::string out =
+      "step,displacement_mm,nominal_strain,pressure_kPa,load_N,measured_T,predicted_T,predicted_T_stderr,"
+      "relative_difference,completed\n";
+  for (const auto& l : t.lines) {
+    const bool pred = l.has_prediction;
+    out += fmt::format("{},{},{},{},{},{},{},{},{},{}\n", l.index + 1, v(l.displacement_mm), v(l.nominal_strain),
+                       v(l.pressure_kPa), v(l.load_N), v(l.measured_T), pred ? v(l.predicted_T) : "",
+                       pred ? v(l.predicted_T_stderr) : "", v(l.relative_difference), l.completed ? 1 : 0);
+  }
+  return out;
+}
+
 }  // namespace tocd::acquisition

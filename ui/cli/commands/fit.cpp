@@ -9,18 +9,36 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
+#include "tocd/acquisition/run_stress_strain.hpp"
+#include "tocd/core/error.hpp"
+#include "tocd/db/reader.hpp"
 
 namespace {
 
 struct FitCliOptions {
-  std::string csv, model = "ogden3";
+  std::string csv, db, model = "ogden3";
+  std::int64_t run = 0;
+  double pin_radius = 1.5;
+  std::size_t bins = 40;
   double poisson = 0.49;
   bool signed_data = false, json = false;
 };
 
 void run_fit(const FitCliOptions& o) {
   namespace mat = tocd::sim::material;
-  const mat::StressStrainData d = mat::read_stress_strain_csv(o.csv);
+  if (o.csv.empty() == o.db.empty()) throw tocd::ConfigError("give exactly one of --csv FILE or --db FILE --run ID");
+  mat::StressStrainData d;
+  if (!o.csv.empty()) {
+    d = mat::read_stress_strain_csv(o.csv);
+  } else {
+    if (o.run <= 0) throw tocd::ConfigError("--db needs --run ID (see tocdlab runs --db FILE)");
+    const auto ss = tocd::acquisition::stress_strain_from_run(tocd::db::Reader(o.db), o.run, o.pin_radius, o.bins);
+    d.strain = ss.strain;
+    d.stress = ss.stress_MPa;
+    if (!o.json)
+      std::cout << fmt::format("run {}: {} load/displacement pairs on the loading branch, {} mm sample, pin radius {} mm\n",
+                               o.run, ss.pairs_used, ss.thickness_mm, ss.pin_radius_mm);
+  }
   mat::FitOptions opt;
   opt.compression = !o.signed_data;
   opt.poisson_ratio = o.poisson;
@@ -61,8 +79,12 @@ void install_fit(CLI::App& root) {
   auto* cmd =
       root.add_subcommand("fit", "Fit a hyperelastic law to nominal stress-strain data (see docs/fe.md)");
   auto o = std::make_shared<FitCliOptions>();
-  cmd->add_option("--csv", o->csv, "two columns: strain, stress [MPa] (compression magnitudes by default)")
-      ->required();
+  cmd->add_option("--csv", o->csv, "two columns: strain, stress [MPa] (compression magnitudes by default)");
+  cmd->add_option("--db", o->db, "measurement database: fit a recorded run's load/displacement instead");
+  cmd->add_option("--run", o->run, "run id in --db");
+  cmd->add_option("--pin-radius", o->pin_radius, "pin radius [mm] for stress = load / (pi r^2) (--db)")
+      ->capture_default_str();
+  cmd->add_option("--bins", o->bins, "strain bins the run's samples are averaged in (--db)")->capture_default_str();
   cmd->add_option("--model", o->model, "ogden1 | ogden2 | ogden3 | neo-hookean | mooney-rivlin | yeoh")
       ->capture_default_str();
   cmd->add_option("--poisson", o->poisson, "Poisson's ratio that sets D1 from the fitted shear modulus")

@@ -41,4 +41,9 @@ std::string format_compare_table(const CompareTable& table);
 /// predicted_T, predicted_T_stderr, relative_difference}, ...]}; missing values are null.
 nlohmann::json to_json(const CompareTable& table);
 
+/// CSV with a header line (step, displacement_mm, nominal_strain, pressure_kPa, load_N,
+/// measured_T, predicted_T, predicted_T_stderr, relative_difference, completed); empty
+/// fields where a value is missing.
+std::string format_compare_csv(const CompareTable& table);
+
 }  // namespace tocd::acquisition

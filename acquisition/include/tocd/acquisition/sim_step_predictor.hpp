@@ -1,0 +1,55 @@
+#pragma once
+
+#include <cstdint>
+#include <future>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "tocd/acquisition/step_predictor.hpp"
+#include "tocd/sim/study/predictor.hpp"
+
+namespace tocd::acquisition {
+
+/// How recorded steps are simulated. Every field ends up in the stored prediction config.
+struct SimPredictorSettings {
+  std::uint64_t photons = 100000;
+  std::uint64_t seed = 1;
+  std::string mesh_preset = "fast";
+  std::string optics_model = "threshold";  ///< "threshold" | "graded"
+  int mc_threads = 0;                      ///< 0 = all cores
+  /// Model material; default: the published skin. The sample's thickness comes from the step.
+  sim::material::OgdenParameters material = sim::study::published_skin_material();
+};
+
+/// Predicts a recorded step with the FE + mesh + Monte Carlo chain of sim::study.
+///
+/// The measured transmission of a step is power / glass-only baseline power, so the predicted
+/// value is the same ratio: T(step) / T(glass-only baseline geometry), both from the Monte
+/// Carlo, with the standard error propagated from both (independent seeds). The baseline is
+/// simulated once, on first use, and shared by every step.
+class SimStepPredictor : public StepPredictor {
+ public:
+  SimStepPredictor(std::shared_ptr<sim::study::Predictor> predictor, SimPredictorSettings settings);
+  std::future<PredictedStep> predict(const RecordedStep& step) override;
+
+  /// The request the predictor runs for a step (exposed for tests and the stored config).
+  sim::study::PredictionRequest request_for(double displacement_mm, double thickness_mm) const;
+
+ private:
+  std::shared_future<sim::study::Prediction> baseline(double thickness_mm);
+
+  std::shared_ptr<sim::study::Predictor> predictor_;
+  SimPredictorSettings settings_;
+  std::mutex mutex_;
+  std::optional<std::shared_future<sim::study::Prediction>> baseline_;
+};
+
+/// Transmission relative to the baseline with its propagated standard error.
+struct RelativeTransmission {
+  double T = 0, T_stderr = 0;
+};
+RelativeTransmission relative_to_baseline(double T, double T_se, double T0, double T0_se);
+
+}  // namespace tocd::acquisition

@@ -1,0 +1,43 @@
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "tocd/mocks/tissue.hpp"
+
+namespace tocd::mocks {
+
+/// A simulated sample backed by the simulator: its load curve is an axisymmetric FE solve of
+/// the pin compression and its transmission the FE + composite mesh + Monte Carlo chain, both
+/// tabulated at `displacements_mm` and interpolated linearly in between. It is meant to differ
+/// from the model's default tissue (other thickness, stiffness, optics model), so that
+/// comparing a simulated run with predictions is not circular.
+struct SimTissueSpec {
+  double thickness_mm = 2.0;
+  /// Shear moduli of the published Ogden fit times this (D_1 divided by it: same Poisson's ratio).
+  double stiffness_scale = 1.25;
+  std::string optics_model = "graded";  ///< "threshold" | "graded"
+  std::vector<double> displacements_mm{0.25, 0.5, 0.75, 1.0, 1.25, 1.5};  ///< > 0, ascending
+  std::uint64_t photons = 50000;
+  std::uint64_t seed = 7;
+  int threads = 0;  ///< Monte Carlo threads (0 = all cores)
+  /// Called with a line of text per stage (FE, each Monte Carlo point), from the calling thread.
+  std::function<void(const std::string&)> progress;
+};
+
+/// The tables behind the tissue (displacement 0 first).
+struct SimTissueTable {
+  std::vector<double> displacement_mm, load_N, transmission, transmission_stderr;
+  double seconds = 0;
+};
+
+/// Runs the FE and the Monte Carlo points (blocking; seconds to minutes depending on photons)
+/// and returns the tabulated tissue. Transmission is relative to the glass-only geometry, as
+/// the power meter sees it against a glass-only baseline. Throws tocd::Error subclasses when
+/// the simulator fails (bad spec, FE not converging at a requested displacement, meshing).
+std::shared_ptr<TissueModel> make_simulated_tissue(const SimTissueSpec& spec, SimTissueTable* table = nullptr);
+
+}  // namespace tocd::mocks

@@ -1,0 +1,96 @@
+#include "tocd/mocks/sim_tissue.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "tocd/core/error.hpp"
+#include "tocd/sim/fe/solve.hpp"
+#include "tocd/sim/study/predictor.hpp"
+
+namespace tocd::mocks {
+namespace {
+
+sim::material::OgdenParameters scaled_material(double scale) {
+  sim::material::OgdenParameters m = sim::study::published_skin_material();
+  for (double& mu : m.mu) mu *= scale;
+  for (double& d : m.D) d /= scale;  // K scales with mu: same Poisson's ratio
+  return m;
+}
+
+void check_spec(const SimTissueSpec& s) {
+  if (!(s.thickness_mm > 0)) throw ConfigError(fmt::format("simulated tissue: thickness {} mm must be > 0", s.thickness_mm));
+  if (!(s.stiffness_scale > 0)) throw ConfigError("simulated tissue: stiffness_scale must be > 0");
+  if (s.displacements_mm.empty()) throw ConfigError("simulated tissue: no displacements to tabulate");
+  double last = 0;
+  for (double d : s.displacements_mm) {
+    if (!(d > last) || !(d < s.thickness_mm))
+      throw ConfigError(fmt::format("simulated tissue: displacements must ascend in (0, {}) mm, got {}",
+                                    s.thickness_mm, d));
+    last = d;
+  }
+}
+
+}  // namespace
+
+std::shared_ptr<TissueModel> make_simulated_tissue(const SimTissueSpec& spec, SimTissueTable* table_out) {
+  check_spec(spec);
+  const auto t0 = std::chrono::steady_clock::now();
+  auto say = [&](const std::string& line) {
+    if (spec.progress) spec.progress(line);
+  };
+  const sim::material::OgdenParameters material = scaled_material(spec.stiffness_scale);
+
+  // Load curve: one FE solve through every tabulated displacement.
+  sim::fe::FeModel model = sim::fe::FeModel::published_default();
+  model.thickness_mm = spec.thickness_mm;
+  model.material = material;
+  say(fmt::format("simulated sample: FE of {:.2f} mm skin (stiffness x{:.2f}) to {:.3f} mm", spec.thickness_mm,
+                  spec.stiffness_scale, spec.displacements_mm.back()));
+  const sim::fe::FeResult fe = sim::fe::solve(model, spec.displacements_mm);
+  if (!fe.complete || fe.steps.size() != spec.displacements_mm.size())
+    throw Error(fmt::format("simulated tissue: FE stopped before {} mm: {}", spec.displacements_mm.back(),
+                            fe.stop_reason));
+
+  SimTissueTable table;
+  table.displacement_mm.push_back(0.0);
+  table.load_N.push_back(0.0);
+  for (const auto& step : fe.steps) {
+    table.displacement_mm.push_back(step.displacement_mm);
+    table.load_N.push_back(step.force_N);
+  }
+
+  // Transmission: the Monte Carlo at contact and at each displacement, relative to glass only.
+  sim::study::Predictor predictor(1);
+  auto request = [&](double d) {
+    sim::study::PredictionRequest r;
+    r.displacement_mm = d;
+    r.thickness_mm = spec.thickness_mm;
+    r.material = material;
+    r.optics_model = spec.optics_model;
+    r.photons = spec.photons;
+    r.seed = spec.seed;
+    r.threads = spec.threads;
+    return r;
+  };
+  sim::study::PredictionRequest base_req = request(0.0);
+  base_req.baseline = true;
+  const sim::study::Prediction base = predictor.predict(base_req);
+  if (!(base.T > 0)) throw Error("simulated tissue: glass-only baseline transmits nothing");
+  for (double d : table.displacement_mm) {
+    const sim::study::Prediction p = predictor.predict(request(d));
+    const double T = p.T / base.T;
+    const double rel = std::sqrt(std::pow(p.T_stderr / std::max(p.T, 1e-300), 2) + std::pow(base.T_stderr / base.T, 2));
+    table.transmission.push_back(T);
+    table.transmission_stderr.push_back(T * rel);
+    say(fmt::format("simulated sample: d = {:.3f} mm  load {:.4f} N  T/T0 {:.4f}", d,
+                    table.load_N[table.transmission.size() - 1], T));
+  }
+  table.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  auto tissue = make_tabulated_tissue(table.displacement_mm, table.load_N, table.transmission);
+  if (table_out) *table_out = std::move(table);
+  return tissue;
+}
+
+}  // namespace tocd::mocks

@@ -1,0 +1,99 @@
+// Nominal stress-strain data from a recorded run (the input of `tocdlab fit --db`).
+#include "tocd/acquisition/run_stress_strain.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include "tocd/core/error.hpp"
+#include "tocd/db/database.hpp"
+#include "tocd/db/reader.hpp"
+#include "tocd/db/writer.hpp"
+
+namespace fs = std::filesystem;
+namespace acq = tocd::acquisition;
+
+namespace {
+
+constexpr double kThickness = 2.0, kRadius = 1.5;
+double load_of(double d) { return 0.05 * d * d + 0.01 * d; }
+
+// A run whose pin goes 0 -> 1.2 mm (loading), holds with the load relaxing, and retracts.
+std::int64_t record_run(const fs::path& path, bool with_thickness) {
+  tocd::db::Database db(path.string());
+  tocd::db::SampleRecord sample;
+  sample.tissue = "skin";
+  if (with_thickness) sample.thickness_mm = kThickness;
+  tocd::db::NewRun nr;
+  nr.name = "synthetic";
+  nr.sample_id = db.add_sample(sample);
+  const auto run = db.create_run(nr);
+  tocd::db::Channel dc, lc;
+  dc.run_id = lc.run_id = run.id;
+  dc.name = "displacement";
+  dc.unit = "mm";
+  lc.name = "load";
+  lc.unit = "N";
+  const auto d_id = db.add_channel(dc).id, l_id = db.add_channel(lc).id;
+  tocd::db::Writer w(db);
+  std::int64_t t = 1000;
+  auto put = [&](double d, double load) {
+    w.enqueue(tocd::db::Sample{d_id, t, d});
+    w.enqueue(tocd::db::Sample{l_id, t, load});
+    t += 1000;
+  };
+  for (int i = -100; i <= 1200; ++i) put(i * 1e-3, i > 0 ? load_of(i * 1e-3) : 0.0);
+  for (int i = 0; i < 500; ++i) put(1.2, 0.5 * load_of(1.2));     // relaxation while holding: excluded
+  for (int i = 1200; i >= 0; i -= 2) put(i * 1e-3, 0.2 * load_of(i * 1e-3));  // retraction: excluded
+  w.flush();
+  w.stop();
+  db.set_run_status(run.id, tocd::db::RunStatus::completed);
+  return run.id;
+}
+
+class RunStressStrain : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    path_ = fs::temp_directory_path() / fmt::format("tocd_ss_{}.db", ::getpid());
+    fs::remove(path_);
+  }
+  void TearDown() override {
+    for (const char* ext : {"", "-wal", "-shm", "-runlock"}) fs::remove(path_.string() + ext);
+  }
+  fs::path path_;
+};
+
+TEST_F(RunStressStrain, LoadingBranchBinnedIntoNominalStressAndStrain) {
+  const auto id = record_run(path_, true);
+  const auto ss = acq::stress_strain_from_run(tocd::db::Reader(path_.string()), id, kRadius, 20);
+  EXPECT_DOUBLE_EQ(ss.thickness_mm, kThickness);
+  ASSERT_GE(ss.strain.size(), 10u);
+  const double area = std::numbers::pi * kRadius * kRadius;
+  for (std::size_t k = 0; k < ss.strain.size(); ++k) {
+    if (k > 0) EXPECT_GT(ss.strain[k], ss.strain[k - 1]);
+    // Bin mean of a smooth curve: the curve at the bin's mean strain, to second order.
+    const double d = ss.strain[k] * kThickness;
+    EXPECT_NEAR(ss.stress_MPa[k], load_of(d) / area, 2e-4 * load_of(1.2) / area) << "bin " << k;
+  }
+  // Holds below the deepest point, retraction and the approach (d <= 0) are not used.
+  EXPECT_EQ(ss.pairs_used, 1200u);
+}
+
+TEST_F(RunStressStrain, ErrorsNameWhatIsMissing) {
+  const auto id = record_run(path_, false);
+  const tocd::db::Reader reader(path_.string());
+  try {
+    acq::stress_strain_from_run(reader, id);
+    FAIL() << "no thickness";
+  } catch (const tocd::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("thickness"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(acq::stress_strain_from_run(reader, id, -1.0), tocd::ConfigError);
+  EXPECT_ANY_THROW(acq::stress_strain_from_run(reader, id + 100));
+}
+
+}  // namespace
