@@ -209,6 +209,7 @@ void Engine::Impl::run_tester_poller() {
       }
     } catch (const devices::DeviceError& e) {
       if (!faults.failed(e)) {
+        tester_lost = true;
         try {
           tester.stop();
         } catch (const std::exception&) {  // the link is gone; nothing more to do

@@ -265,7 +265,10 @@ void Engine::Impl::finish(EngineState final_state, const std::string& why) {
   if (final_state == EngineState::aborted) emit_event("operator", "abort: " + why, current_step);
   try {
     set_state(EngineState::retracting, why);
-    if (inst.tester) {
+    if (inst.tester && tester_lost) {
+      emit_event("fault", "the mechanical tester is unreachable: the pin could not be retracted",
+                 current_step);
+    } else if (inst.tester) {
       load_interlock_armed = false;  // backing off lowers the load; do not stop the retraction
       const bool retract = final_state != EngineState::interrupted || protocol.interlocks.retract_on_trip;
       send_tester([this] { inst.tester->stop(); });

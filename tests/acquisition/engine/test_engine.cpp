@@ -366,3 +366,21 @@ TEST_F(EngineTest, MissingInstrumentIsAClearError) {
   EXPECT_THROW(vacuum_without_pump.start(parse_protocol(vacuum_protocol("80"), "v.toml")), EngineError);
   EXPECT_TRUE(tocd::db::Reader(path_).runs().empty());
 }
+
+TEST_F(EngineTest, AnInstrumentThatKeepsFailingInterruptsTheRun) {
+  auto world = std::make_shared<FakeWorld>(kFactor);
+  Recorder obs;
+  tocd::db::Database db(path_);
+  Engine engine(db, make_fake_instruments(world), fast(), nullptr, &obs);
+  const auto run = engine.start(parse_protocol(pin_protocol("0.25, 0.5, 0.75"), "engine.toml"));
+  ASSERT_TRUE(eventually([&] { return obs.step_count() >= 1; }));
+  world->fail_tester_reads = 1'000'000'000;  // the link is gone for good
+  EXPECT_EQ(engine.wait(), EngineState::interrupted);
+  EXPECT_NE(engine.error().find("mechanical tester lost: failing for"), std::string::npos) << engine.error();
+  const tocd::db::Reader r(path_);
+  EXPECT_EQ(r.run(run).status, tocd::db::RunStatus::interrupted);
+  EXPECT_TRUE(has_event(r, run, "fault", "mechanical tester: fake tester"));
+  EXPECT_TRUE(has_event(r, run, "interlock", "mechanical tester lost"));
+  EXPECT_TRUE(has_event(r, run, "fault", "the pin could not be retracted"));
+  EXPECT_GE(r.first_incomplete_step(run), 1);
+}
