@@ -1,8 +1,12 @@
 #include "tocd/db/writer.hpp"
 
 #include <algorithm>
+#include <array>
 #include <condition_variable>
+#include <ctime>
+#include <memory>
 #include <mutex>
+#include <span>
 #include <thread>
 #include <unordered_map>
 #include <vector>
@@ -47,6 +51,9 @@ struct Writer::Impl {
     c = detail::open_read_only(path);  // identity and schema checks, without writing
     c = detail::Connection(path, SQLITE_OPEN_READWRITE);
     detail::configure_read_write(c);
+    // A larger page cache keeps the hot ends of the samples table and of its (channel, time)
+    // index in memory across batches.
+    c.exec("PRAGMA cache_size = -65536");  // KiB: 64 MiB
     thread = std::thread([this] { loop(); });
   }
 
@@ -89,34 +96,51 @@ struct Writer::Impl {
         if (stopping) break;
         continue;
       }
+      const Clock::time_point oldest = first_pending;  // enqueue time of the batch's first row
       batch.swap(samples);
       batch_events.swap(events);
-      const std::uint64_t items = batch.size() + batch_events.size();
       if (pending() == 0 && !stopping) flush_requested = false;
       lk.unlock();
 
-      const auto t0 = Clock::now();
-      std::uint64_t written = 0, rejected = 0, failed = 0;
-      std::string error;
-      write_batch(batch, batch_events, written, rejected, failed, error);
-      const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+      // A backlog is committed in transactions of at most batch_rows rows, so progress (and
+      // durability) advances batch by batch even when the queue has grown long.
+      const std::size_t chunk = std::max<std::size_t>(1, opt.batch_rows);
+      for (std::size_t from = 0; from < batch.size() || (from == 0 && !batch_events.empty()); from += chunk) {
+        const std::size_t n = std::min(chunk, batch.size() - from);
+        const std::span<const Sample> part(batch.data() + from, n);
+        const std::span<const EventRecord> evs =
+            from == 0 ? std::span<const EventRecord>(batch_events) : std::span<const EventRecord>();
+        const auto t0 = Clock::now();
+        std::uint64_t written = 0, rejected = 0, failed = 0;
+        std::string error;
+        write_batch(part, evs, written, rejected, failed, error);
+        const auto t1 = Clock::now();
+        const double ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+        const double delay_ms = std::chrono::duration<double, std::milli>(t1 - oldest).count();
+        timespec cpu{};
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu);
+
+        lk.lock();
+        st.written += written;
+        st.rejected += rejected;
+        st.failed += failed;
+        st.writer_cpu_seconds = static_cast<double>(cpu.tv_sec) + 1e-9 * static_cast<double>(cpu.tv_nsec);
+        if (!error.empty()) st.last_error = error;
+        if (failed == 0) {
+          ++st.batches;
+          batch_ms_sum += ms;
+          st.last_batch_ms = ms;
+          st.max_batch_ms = std::max(st.max_batch_ms, ms);
+          st.max_commit_delay_ms = std::max(st.max_commit_delay_ms, delay_ms);
+          st.mean_batch_ms = batch_ms_sum / static_cast<double>(st.batches);
+        }
+        processed_items += n + evs.size();
+        progress.notify_all();
+        lk.unlock();
+      }
       batch.clear();
       batch_events.clear();
-
       lk.lock();
-      st.written += written;
-      st.rejected += rejected;
-      st.failed += failed;
-      if (!error.empty()) st.last_error = error;
-      if (failed == 0) {
-        ++st.batches;
-        batch_ms_sum += ms;
-        st.last_batch_ms = ms;
-        st.max_batch_ms = std::max(st.max_batch_ms, ms);
-        st.mean_batch_ms = batch_ms_sum / static_cast<double>(st.batches);
-      }
-      processed_items += items;
-      progress.notify_all();
     }
     stopped = true;
   }
@@ -141,9 +165,8 @@ struct Writer::Impl {
     return run_exists[run_id] = q.step();
   }
 
-  void write_batch(const std::vector<Sample>& batch, const std::vector<EventRecord>& evs,
-                   std::uint64_t& written, std::uint64_t& rejected, std::uint64_t& failed,
-                   std::string& error) {
+  void write_batch(std::span<const Sample> batch, std::span<const EventRecord> evs, std::uint64_t& written,
+                   std::uint64_t& rejected, std::uint64_t& failed, std::string& error) {
     // A failed commit (e.g. disk full) is retried a few times before the batch is counted failed.
     for (int attempt = 0; attempt < 3; ++attempt) {
       written = rejected = 0;
@@ -160,7 +183,7 @@ struct Writer::Impl {
           }
           ins.bind(1, run).bind(2, s.channel_id).bind(3, s.t_ns).bind(4, s.value);
           ins.step();
-          sqlite3_reset(ins.get());  // bindings are all rebound; no clear needed
+          sqlite3_reset(ins.get());  // every parameter is bound again for the next row
           ++written;
         }
         if (last_bad != 0) error = fmt::format("samples for unknown channel id {} were rejected", last_bad);

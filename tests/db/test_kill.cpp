@@ -85,6 +85,19 @@ TEST(DbKill, SigkillMidRunLosesNothingOlderThanTheBound) {
   while (::read(fds[0], &r, sizeof r) == sizeof r) reports.push_back(r);
   ::close(fds[0]);
 
+  // A read-only Reader opened first (before anything marks the run) already sees every
+  // committed batch: the WAL left by the killed process is recovered without a writer.
+  std::int64_t seen_by_first_reader = 0;
+  {
+    Reader first(path);
+    const auto runs = first.runs();
+    ASSERT_EQ(runs.size(), 1u);
+    EXPECT_EQ(runs[0].run.status, RunStatus::running);  // not yet marked: readers never write
+    EXPECT_FALSE(runs[0].live);                         // but nobody holds its lock
+    seen_by_first_reader = first.sample_count(first.channels(runs[0].run.id).at(0).id);
+    EXPECT_GE(seen_by_first_reader, reports.back().committed);
+  }
+
   Database db(path);
   EXPECT_EQ(db.integrity_check(), "ok");
   ASSERT_EQ(db.interrupted_on_open().size(), 1u);
@@ -103,6 +116,7 @@ TEST(DbKill, SigkillMidRunLosesNothingOlderThanTheBound) {
     }
   }
   const auto stored = static_cast<std::int64_t>(samples.size());
+  EXPECT_EQ(stored, seen_by_first_reader);
   // Everything the writer reported committed is there.
   EXPECT_GE(stored, reports.back().committed);
   // Everything enqueued more than 0.5 s before the kill is there.

@@ -32,7 +32,11 @@ struct WriterStats {
   std::size_t queue_depth = 0;
   std::size_t queue_high_water = 0;
   double last_batch_ms = 0, mean_batch_ms = 0, max_batch_ms = 0;  // commit latency per batch
-  std::string last_error;                                         // "" while all is well
+  /// Longest time from a row's enqueue to the commit of its batch: the age beyond which every
+  /// enqueued row was on disk (the measured durability window of this writer).
+  double max_commit_delay_ms = 0;
+  double writer_cpu_seconds = 0;  // CPU time of the writer thread so far
+  std::string last_error;         // "" while all is well
 };
 
 /// Background writer of time-series samples (and, optionally, events) into a tocdlab
