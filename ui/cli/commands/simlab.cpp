@@ -1,0 +1,95 @@
+// `tocdlab simlab`: serves the simulated instruments on their real transports until SIGINT
+// (docs/instruments/simulated-lab.md).
+#include <csignal>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "command_registry.hpp"
+#include "tocd/core/error.hpp"
+#include "tocd/devices/lab.hpp"
+#include "tocd/mocks/simulated_lab.hpp"
+
+namespace {
+
+volatile std::sig_atomic_t g_stop = 0;
+extern "C" void on_signal(int) {
+  g_stop = 1;
+}
+
+struct SimlabOptions {
+  std::string config, write_config;
+  double clock_factor = 1.0, source_power_W = 1e-3, contact_mm = 1.0, thickness_mm = 2.5;
+  std::uint64_t seed = 1;
+  bool no_vacuum = false, no_power_meter = false;
+};
+
+void run_simlab(const SimlabOptions& o) {
+  tocd::mocks::SimulatedLabOptions opt;
+  opt.clock_factor = o.clock_factor;
+  opt.source_power_W = o.source_power_W;
+  opt.contact_position_mm = o.contact_mm;
+  opt.seed = o.seed;
+  opt.tissue = tocd::mocks::make_analytic_tissue(o.thickness_mm);
+  opt.with_vacuum = !o.no_vacuum;
+  opt.with_power_meter = !o.no_power_meter;
+  if (!o.config.empty()) {
+    // Serve on the ports a lab file names, so that file can be used as it is.
+    const tocd::devices::LabConfig want = tocd::devices::load_lab_config(o.config);
+    if (want.tester) opt.tester_port = want.tester->address.port;
+    if (want.power_meter &&
+        want.power_meter->transport == tocd::devices::PowerMeterConfig::Transport::scpi_tcp)
+      opt.power_meter_port = want.power_meter->port;
+    opt.with_power_meter = opt.with_power_meter && want.power_meter.has_value();
+    opt.with_vacuum = opt.with_vacuum && want.vacuum.has_value();
+  }
+  tocd::mocks::SimulatedLab lab(opt);
+  const tocd::devices::LabConfig cfg = lab.config();
+  std::cout << fmt::format("simulated lab (clock factor {}, seed {}):\n", o.clock_factor, o.seed);
+  std::cout << fmt::format("  mechanical tester  modbus-tcp  {}:{}\n", cfg.tester->address.host,
+                           cfg.tester->address.port);
+  if (cfg.power_meter)
+    std::cout << fmt::format("  power meter        scpi-tcp    {}:{}\n", cfg.power_meter->host,
+                             cfg.power_meter->port);
+  if (cfg.vacuum)
+    std::cout << fmt::format("  vacuum controller  modbus-rtu  {} (slave {})\n", cfg.vacuum->address.device,
+                             cfg.vacuum->address.slave_id);
+  if (!o.write_config.empty()) {
+    std::ofstream out(o.write_config);
+    out << tocd::devices::to_toml(cfg);
+    if (!out) throw tocd::ConfigError("cannot write " + o.write_config);
+    std::cout << "lab config written to " << o.write_config << '\n';
+  } else {
+    std::cout << "\nlab config:\n" << tocd::devices::to_toml(cfg);
+  }
+  std::cout << "serving until interrupted (Ctrl-C)" << std::endl;
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  while (!g_stop) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  std::cout << "stopping" << std::endl;
+}
+
+void install_simlab(CLI::App& root) {
+  auto* cmd = root.add_subcommand("simlab", "Serve the simulated tester, power meter and vacuum controller");
+  auto o = std::make_shared<SimlabOptions>();
+  cmd->add_option("--config", o->config, "lab TOML whose tester/power-meter ports to serve on");
+  cmd->add_option("--write-config", o->write_config,
+                  "write a lab TOML pointing at the simulated instruments");
+  cmd->add_option("--clock-factor", o->clock_factor, "simulated seconds per real second")
+      ->capture_default_str();
+  cmd->add_option("--source-power", o->source_power_W, "source power (W)")->capture_default_str();
+  cmd->add_option("--contact", o->contact_mm, "tester position where the pin touches the sample (mm)")
+      ->capture_default_str();
+  cmd->add_option("--thickness", o->thickness_mm, "sample thickness (mm)")->capture_default_str();
+  cmd->add_option("--seed", o->seed, "noise seed")->capture_default_str();
+  cmd->add_flag("--no-vacuum", o->no_vacuum, "no vacuum controller");
+  cmd->add_flag("--no-power-meter", o->no_power_meter, "no power meter");
+  cmd->callback([o] { run_simlab(*o); });
+}
+
+}  // namespace
+
+TOCD_CLI_COMMAND(simlab, install_simlab);
