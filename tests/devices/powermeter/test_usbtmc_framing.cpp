@@ -49,8 +49,8 @@ Bytes in_transfer(std::uint8_t tag, const std::string& data, bool eom) {
           0,
           0,
           0};
-  t.insert(t.end(), data.begin(), data.end());
-  while (t.size() % 4) t.push_back(0);
+  t.resize((12 + data.size() + 3) / 4 * 4, 0);
+  for (std::size_t i = 0; i < data.size(); ++i) t[12 + i] = static_cast<std::uint8_t>(data[i]);
   return t;
 }
 

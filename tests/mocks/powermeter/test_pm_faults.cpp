@@ -123,3 +123,27 @@ TEST_P(MeterOverWire, ALinkThatStaysDownIsAConnectionError) {
 }
 
 // Instantiated over both wires in test_pm_driver.cpp.
+
+TEST_P(MeterOverWire, ZeroingThatDoesNotFinishTimesOut) {
+  tocd::mocks::PowerMeterTwinOptions o;
+  o.zero_duration_s = 30.0;
+  meter.reset();
+  twin.reset();
+  options.zero_timeout_s = 0.15;
+  start(o);
+  const double s =
+      expect_error<TimeoutError>([&] { meter->zero(); }, {"SENS:CORR:COLL:ZERO:INIT", "still running"});
+  EXPECT_LT(s, 1.0);
+  EXPECT_GT(meter->measure().power_W, 0.0);
+}
+
+TEST_P(MeterOverWire, SimulatedClockFactorShortensZeroing) {
+  tocd::mocks::PowerMeterTwinOptions o;
+  o.clock = std::make_shared<tocd::mocks::SimClock>(20.0);  // 0.4 s of zeroing in 20 ms
+  meter.reset();
+  twin.reset();
+  start(o);
+  const auto t0 = tocd::monotonic_ns();
+  meter->zero();
+  EXPECT_LT(tocd::monotonic_ns() - t0, 300'000'000);
+}

@@ -17,6 +17,7 @@ namespace tocd::mocks {
 struct PowerMeterTwinOptions {
   /// True optical power on the sensor (W), sampled at every reading. SimulatedLab passes
   /// source power x tissue transmission at the current pin displacement. Default: dark.
+  /// Called from the server thread under the twin's lock: must not call back into the twin.
   std::function<double()> power_W;
   double noise_relative = 0.002;  ///< 1-sigma noise per sample, fraction of the power
   double noise_floor_W = 2e-10;   ///< 1-sigma noise per sample, absolute
