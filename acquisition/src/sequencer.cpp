@@ -230,7 +230,15 @@ void Engine::Impl::run_sequence() {
           resume_requested = false;
         }
         seal_watch = false;
-        if (inst.tester) send_tester([this] { inst.tester->stop(); });
+        if (inst.tester && !tester_lost) {
+          // "paused" means the pin has stopped: wait (bounded) until its poller has sent the stop.
+          send_tester([this] { inst.tester->stop(); });
+          const std::uint64_t stop_cmd = tester_commands_sent;
+          const std::int64_t end = monotonic_ns() + 2'000'000'000;
+          while (tester_commands_applied < stop_cmd && !tester_lost && monotonic_ns() < end) {
+            std::this_thread::sleep_for(std::chrono::microseconds(200));
+          }
+        }
         set_state(EngineState::paused, reason + fmt::format("; step {} will be redone", i + 1));
         std::unique_lock lock(mu);
         cv.wait(lock, [&] { return resume_requested || abort_requested || tripped; });
