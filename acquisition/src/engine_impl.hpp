@@ -83,6 +83,7 @@ struct Engine::Impl {
   std::atomic<bool> seal_watch{false};  // vacuum setpoint reached in this step: watch for loss
   std::atomic<double> seal_setpoint_kPa{0};
   std::atomic<bool> stop_pollers{false};
+  std::atomic<bool> tester_lost{false};  // its poller gave up: no more commands reach it
   std::atomic<std::uint64_t> enqueued{0}, dropped{0}, overruns{0};
 
   // --- driver command queues (sequencer -> poller) ---

@@ -46,7 +46,9 @@ class Pacer {
 /// trip when they last longer than the tolerance.
 class FaultTracker {
  public:
-  FaultTracker(Engine::Impl& m, std::string instrument) : m_(m), instrument_(std::move(instrument)) {}
+  /// `lost` (optional) is set before the trip, so whoever handles the trip knows.
+  FaultTracker(Engine::Impl& m, std::string instrument, std::atomic<bool>* lost = nullptr)
+      : m_(m), instrument_(std::move(instrument)), lost_(lost) {}
 
   /// Returns false when the instrument has been failing for too long (the run was tripped).
   bool failed(const std::exception& e) {
@@ -57,6 +59,7 @@ class FaultTracker {
                     current_step());
     }
     if (static_cast<double>(now - since_) * 1e-9 > m_.opt.fault_tolerance_s) {
+      if (lost_) *lost_ = true;
       m_.trip(fmt::format("{} lost: failing for {:.1f} s ({} failed reads), last error: {}", instrument_,
                           static_cast<double>(now - since_) * 1e-9, count_, e.what()));
       return false;
@@ -77,6 +80,7 @@ class FaultTracker {
   }
   Engine::Impl& m_;
   std::string instrument_;
+  std::atomic<bool>* lost_;
   std::int64_t count_ = 0;
   std::int64_t since_ = 0;
 };
@@ -168,7 +172,7 @@ void Engine::Impl::request_pause(const std::string& reason) {
 void Engine::Impl::run_tester_poller() {
   auto& tester = *inst.tester;
   Pacer pacer(clock, protocol.rates.tester_Hz);
-  FaultTracker faults(*this, "mechanical tester");
+  FaultTracker faults(*this, "mechanical tester", &tester_lost);
   LiveBatch live(*this);
   const double max_load = protocol.interlocks.max_load_N;
   bool limit_reported = false;

@@ -230,7 +230,15 @@ void Engine::Impl::run_sequence() {
           resume_requested = false;
         }
         seal_watch = false;
-        if (inst.tester) send_tester([this] { inst.tester->stop(); });
+        if (inst.tester && !tester_lost) {
+          // "paused" means the pin has stopped: wait (bounded) until its poller has sent the stop.
+          send_tester([this] { inst.tester->stop(); });
+          const std::uint64_t stop_cmd = tester_commands_sent;
+          const std::int64_t end = monotonic_ns() + 2'000'000'000;
+          while (tester_commands_applied < stop_cmd && !tester_lost && monotonic_ns() < end) {
+            std::this_thread::sleep_for(std::chrono::microseconds(200));
+          }
+        }
         set_state(EngineState::paused, reason + fmt::format("; step {} will be redone", i + 1));
         std::unique_lock lock(mu);
         cv.wait(lock, [&] { return resume_requested || abort_requested || tripped; });
@@ -265,7 +273,10 @@ void Engine::Impl::finish(EngineState final_state, const std::string& why) {
   if (final_state == EngineState::aborted) emit_event("operator", "abort: " + why, current_step);
   try {
     set_state(EngineState::retracting, why);
-    if (inst.tester) {
+    if (inst.tester && tester_lost) {
+      emit_event("fault", "the mechanical tester is unreachable: the pin could not be retracted",
+                 current_step);
+    } else if (inst.tester) {
       load_interlock_armed = false;  // backing off lowers the load; do not stop the retraction
       const bool retract = final_state != EngineState::interrupted || protocol.interlocks.retract_on_trip;
       send_tester([this] { inst.tester->stop(); });

@@ -106,14 +106,17 @@ TEST_F(EngineTest, RecordsStepsWithTransmissionLoadAndPredictions) {
     EXPECT_TRUE(s.completed);
     EXPECT_DOUBLE_EQ(s.target_displacement_mm, d);
     EXPECT_DOUBLE_EQ(s.nominal_strain, d / 2.0);
-    // Power noise is 0.01 % per reading: the mean of >= 10 readings is within 1e-4 relative.
+    // Power noise is 0.01 % per reading, so even one reading gives T within 1e-4 absolute.
     EXPECT_NEAR(s.measured_transmission, world->transmission(d, FakeWorld::kAtmosphere_kPa), 1e-4);
     const auto* load = s.stats_for(load_ch->id);
     ASSERT_NE(load, nullptr);
     // Settled: the relaxation overshoot (20 %, tau 0.3 s) has decayed below the 0.05 N/s rate
     // criterion, i.e. to < 0.05 * 0.3 / load of the load; 2 % covers it at these loads.
     EXPECT_NEAR(load->mean, world->equilibrium_load_N(d), 0.02 * world->equilibrium_load_N(d) + 0.016);
-    EXPECT_GE(s.stats_for(power_ch->id)->n, 10);
+    // 1 s at 10 Hz: 10 readings, fewer when a loaded machine delays the poller of this 20x
+    // fast clock past the window (its late readings are stamped when taken).
+    EXPECT_GE(s.stats_for(power_ch->id)->n, 5);
+    EXPECT_LE(s.stats_for(power_ch->id)->n, 11);
     EXPECT_LT(s.settled_t_ns, s.recorded_from_t_ns);
     EXPECT_LT(s.recorded_from_t_ns, s.recorded_to_t_ns);
   }
@@ -365,4 +368,22 @@ TEST_F(EngineTest, MissingInstrumentIsAClearError) {
   Engine vacuum_without_pump(db, make_fake_instruments(world, true, false), fast());
   EXPECT_THROW(vacuum_without_pump.start(parse_protocol(vacuum_protocol("80"), "v.toml")), EngineError);
   EXPECT_TRUE(tocd::db::Reader(path_).runs().empty());
+}
+
+TEST_F(EngineTest, AnInstrumentThatKeepsFailingInterruptsTheRun) {
+  auto world = std::make_shared<FakeWorld>(kFactor);
+  Recorder obs;
+  tocd::db::Database db(path_);
+  Engine engine(db, make_fake_instruments(world), fast(), nullptr, &obs);
+  const auto run = engine.start(parse_protocol(pin_protocol("0.25, 0.5, 0.75"), "engine.toml"));
+  ASSERT_TRUE(eventually([&] { return obs.step_count() >= 1; }));
+  world->fail_tester_reads = 1'000'000'000;  // the link is gone for good
+  EXPECT_EQ(engine.wait(), EngineState::interrupted);
+  EXPECT_NE(engine.error().find("mechanical tester lost: failing for"), std::string::npos) << engine.error();
+  const tocd::db::Reader r(path_);
+  EXPECT_EQ(r.run(run).status, tocd::db::RunStatus::interrupted);
+  EXPECT_TRUE(has_event(r, run, "fault", "mechanical tester: fake tester"));
+  EXPECT_TRUE(has_event(r, run, "interlock", "mechanical tester lost"));
+  EXPECT_TRUE(has_event(r, run, "fault", "the pin could not be retracted"));
+  EXPECT_GE(r.first_incomplete_step(run), 1);
 }

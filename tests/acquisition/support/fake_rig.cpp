@@ -42,7 +42,8 @@ double FakeWorld::load_N() const {
   // Viscoelastic: the load runs relax_fraction above equilibrium while the pin moves and
   // relaxes back with relax_tau_s once it stops (continuous at the stop).
   double load = equilibrium_load_N(d) * (1.0 + relax_fraction);
-  if (t >= arrive_t) load = equilibrium_load_N(d) * (1.0 + relax_fraction * std::exp(-(t - arrive_t) / relax_tau_s));
+  if (t >= arrive_t)
+    load = equilibrium_load_N(d) * (1.0 + relax_fraction * std::exp(-(t - arrive_t) / relax_tau_s));
   return load + extra_load_N;
 }
 
