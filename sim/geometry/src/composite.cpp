@@ -8,6 +8,7 @@
 
 #include "layout.hpp"
 #include "plc.hpp"
+#include "region_classifier.hpp"
 #include "tetgen_mesher.hpp"
 
 namespace tocd::sim::geometry {
@@ -48,6 +49,7 @@ CompositeMesh build_composite(const CompositeSpec& spec) {
   const detail::Plc plc = detail::build_plc(layout, result.size.azimuth_segments);
   result.tetgen_switches = switches_for(result.size);
   result.mesh = detail::tetrahedralize(plc, layout.section, result.tetgen_switches);
+  detail::assign_regions(result.mesh, layout, result.size.azimuth_segments);
   result.contact_radius_mm = layout.contact_radius_mm;
 
   const auto expected = expected_volumes(layout, result.size.azimuth_segments);

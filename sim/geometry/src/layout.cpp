@@ -324,6 +324,9 @@ class LayoutBuilder {
     // The skin's depression below (or bulge above) its undeformed top, for volumes.
     L_.depression_polygon = top;
     L_.depression_polygon.push_back({0, t});
+    L_.skin_polygon = top;
+    L_.skin_polygon.push_back({top.back().r, 0});
+    L_.skin_polygon.push_back({0, 0});
     for (std::size_t k = 0; k < outlines.size(); ++k) add_outline(k, outlines[k]);
   }
 

@@ -44,6 +44,8 @@ struct Layout {
   std::vector<Vec2> pin_polygon;                       ///< closed, for its volume and seed
   std::vector<Vec2> depression_polygon;                ///< skin top vs z = thickness (signed)
   std::vector<std::vector<Vec2>> compressed_polygons;  ///< closed, one per outline
+  std::vector<Vec2>
+      skin_polygon;  ///< closed: skin top (as meshed) and slide, r <= r_core; empty for the baseline
   double contact_radius_mm = 0;
 };
 

@@ -170,11 +170,6 @@ tocd::sim::mesh::TetMesh tetrahedralize(const Plc& plc, const Section& section, 
       std::swap(tet[2], tet[3]);
     mesh.regions[t] =
         attributes > 0 ? static_cast<std::int32_t>(out.tetrahedronattributelist[attributes * t]) : 0;
-    if (mesh.regions[t] < pin || mesh.regions[t] > compressed)
-      throw GeometryError(
-          fmt::format("TetGen left tet {} outside every region (attribute {}): a surface of the "
-                      "composite is not closed",
-                      t, mesh.regions[t]));
   }
   for (int f = 0; f < out.numberoftrifaces; ++f) {
     const int surface = out.trifacemarkerlist ? out.trifacemarkerlist[f] - 1 : -1;

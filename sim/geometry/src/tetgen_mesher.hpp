@@ -8,8 +8,9 @@
 namespace tocd::sim::geometry::detail {
 
 /// Meshes the complex with TetGen (`switches` without the output-format letters this adds).
-/// Tets carry their region, boundary faces the marker of their surface. Throws GeometryError
-/// naming the surfaces TetGen found at fault.
+/// Tets carry TetGen's region attribute (the seed's region; a pocket no seed reached gets a
+/// number above them: see assign_regions), boundary faces the marker of their surface. Throws
+/// GeometryError naming the surfaces TetGen found at fault.
 tocd::sim::mesh::TetMesh tetrahedralize(const Plc& plc, const Section& section, const std::string& switches);
 
 }  // namespace tocd::sim::geometry::detail

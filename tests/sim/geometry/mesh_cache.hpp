@@ -5,11 +5,21 @@
 #include <map>
 #include <string>
 
+#include "fe_fixture.hpp"
 #include "synthetic_profile.hpp"
 
 namespace tocd::sim::geometry::testing {
 
-enum class Case { baseline, flat, indent_05, indent_10, indent_15, indent_15_on_slide };
+enum class Case {
+  baseline,
+  flat,
+  indent_05,
+  indent_10,
+  indent_15,
+  indent_15_on_slide,
+  indent_10_native_pocket,  ///< compressed zone enclosing native skin at the slide
+  fe_d10_h20                ///< the FE's own profile at 1.0 mm in 2.0 mm skin (same pocket)
+};
 
 inline CompositeSpec spec_of(Case c) {
   CompositeSpec spec;
@@ -33,6 +43,16 @@ inline CompositeSpec spec_of(Case c) {
       in.displacement_mm = 1.5;
       in.compressed_on_slide = true;
       break;
+    case Case::indent_10_native_pocket:
+      in.displacement_mm = 1.0;
+      in.compressed_on_slide = true;
+      in.pocket_radius_mm = 0.3;
+      in.pocket_height_mm = 0.15;
+      break;
+    case Case::fe_d10_h20:
+      spec.pin_displacement_mm = 1.0;
+      spec.skin = load_profile(std::string(TOCD_GEOMETRY_TEST_DATA) + "/fe_d1.0_h2.0_profile.txt", 2.0);
+      return spec;
   }
   return make_spec(in);
 }

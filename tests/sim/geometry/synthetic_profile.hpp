@@ -20,6 +20,10 @@ struct Indentation {
   double outer_radius_mm = 6.25;
   bool compressed = true;
   bool compressed_on_slide = false;  ///< the zone reaches down to the slide
+  /// With compressed_on_slide: the zone leaves a lens of native skin on the axis at the slide
+  /// (r < pocket_radius_mm, z < pocket_height_mm), closed off from the rest of the skin, as
+  /// the FE gives it at 1.0 mm in 2.0 mm skin.
+  double pocket_radius_mm = 0, pocket_height_mm = 0;
 };
 
 inline double pin_height(const Indentation& in, double r) {
@@ -56,7 +60,13 @@ inline SkinProfile make_profile(const Indentation& in) {
     const double tip = pin_height(in, 0.0);
     const double bottom = in.compressed_on_slide ? 0.0 : 0.45 * tip;
     std::vector<ProfilePoint> o;
-    o.push_back({0.0, bottom});
+    if (in.pocket_radius_mm > 0) {
+      o.push_back({0.0, in.pocket_height_mm});
+      o.push_back({in.pocket_radius_mm, in.pocket_height_mm});
+      o.push_back({in.pocket_radius_mm, bottom});
+    } else {
+      o.push_back({0.0, bottom});
+    }
     o.push_back({0.8 * rj, bottom});
     o.push_back({rj, 0.5 * (bottom + tip)});
     // Surface nodes from r_j back to the axis (the FE's own surface nodes).
@@ -66,7 +76,8 @@ inline SkinProfile make_profile(const Indentation& in) {
     if (top.back().r_mm < rj - 1e-12) top.push_back({rj, surface_height(in, rj)});
     for (auto it = top.rbegin(); it != top.rend(); ++it) o.push_back(*it);
     // Along the axis back down (FE nodes on the axis).
-    for (double z = tip - 0.1; z > bottom + 0.05; z -= 0.1) o.push_back({0.0, z});
+    const double axis_bottom = in.pocket_radius_mm > 0 ? in.pocket_height_mm : bottom;
+    for (double z = tip - 0.1; z > axis_bottom + 0.05; z -= 0.1) o.push_back({0.0, z});
     p.compressed_outlines.push_back(o);
   }
   return p;
