@@ -198,10 +198,12 @@ StudyTable run_study(Predictor& predictor, const std::vector<StudyCase>& cases, 
   return t;
 }
 
-std::string table_header() {
+std::string table_header(int ref_a, int ref_b) {
+  const std::string a = ref_a >= 0 ? fmt::format("T/T{}", ref_a) : "T/Ta";
+  const std::string b = ref_b >= 0 ? fmt::format("T/T{}", ref_b) : "T/Tb";
   return fmt::format("{:>3} {:>6} {:>5} {:>6} {:<13} {:>8} {:>8} {:>7} {:>7} {:>7} {:>6} {:>7} {:>7}\n",
-                     "sim", "d_mm", "h_mm", "strain", "optics", "T", "T_se", "T/T0", "T/T3", "+-T/T3",
-                     "side%", "tets", "seconds") +
+                     "sim", "d_mm", "h_mm", "strain", "optics", "T", "T_se", a, b, "+-" + b, "side%", "tets",
+                     "seconds") +
          std::string(104, '-') + "\n";
 }
 
@@ -216,7 +218,7 @@ std::string format_row(const StudyRow& r) {
 }
 
 std::string format_table(const StudyTable& t) {
-  std::string out = table_header();
+  std::string out = table_header(t.ref_a, t.ref_b);
   for (const auto& r : t.rows) out += format_row(r);
   return out;
 }

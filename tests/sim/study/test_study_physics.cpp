@@ -10,6 +10,14 @@
 
 namespace st = tocd::sim::study;
 
+// The physics-long build runs the same cases with 10x the photons under its own suite name,
+// so ctest names stay unique.
+#ifdef TOCD_STUDY_LONG
+#define STUDY_SUITE StudyPhysicsLong
+#else
+#define STUDY_SUITE StudyPhysics
+#endif
+
 namespace {
 
 #ifdef TOCD_STUDY_LONG
@@ -56,7 +64,7 @@ void expect_sane(const st::Prediction& p, const char* what, double max_side_loss
 
 }  // namespace
 
-TEST(StudyPhysics, GlassOnlyIsHighestAndCompressionRaisesTransmission) {
+TEST(STUDY_SUITE, GlassOnlyIsHighestAndCompressionRaisesTransmission) {
   st::Predictor predictor;
   const auto p0 = predictor.predict(baseline());
   const auto p1 = predictor.predict(request(0.0));
@@ -79,7 +87,7 @@ TEST(StudyPhysics, GlassOnlyIsHighestAndCompressionRaisesTransmission) {
   EXPECT_TRUE(has_compressed);
 }
 
-TEST(StudyPhysics, ClearingTheCompressedRegionRaisesTransmission) {
+TEST(STUDY_SUITE, ClearingTheCompressedRegionRaisesTransmission) {
   st::Predictor predictor;
   const auto native = predictor.predict(request(1.5));
   const auto low_mua = predictor.predict(request(1.5, "a60"));
@@ -103,7 +111,7 @@ TEST(StudyPhysics, ClearingTheCompressedRegionRaisesTransmission) {
   expect_sane(all, "a60s60n110", 0.10);
 }
 
-TEST(StudyPhysics, ThinnerSkinAndGradedClearingTransmitMore) {
+TEST(STUDY_SUITE, ThinnerSkinAndGradedClearingTransmitMore) {
   st::Predictor predictor;
   auto thin = request(0.0);
   thin.thickness_mm = 1.5;

@@ -250,7 +250,8 @@ TEST(StudyProfileAdapter, InsetsOutlinesFromTheContactSurface) {
   tocd::sim::fe::FeStepResult step;
   step.top_surface = {{0.0, 1.0}, {0.5, 1.1}, {1.0, 1.4}, {6.25, 2.5}};
   // Compressed zone under the pin: up the axis to the surface, along it, down, back.
-  step.compressed_outlines = {{{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.4}, {0.5, 1.1}, {0.0, 1.0}, {0.0, 0.98}, {0.0, 0.5}}};
+  step.compressed_outlines = {
+      {{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.4}, {0.5, 1.1}, {0.0, 1.0}, {0.0, 0.98}, {0.0, 0.5}}};
   const auto p = st::to_skin_profile(step, 2.5, 0.05);
   ASSERT_EQ(p.compressed_outlines.size(), 1u);
   const auto& o = p.compressed_outlines[0];

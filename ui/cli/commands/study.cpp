@@ -35,13 +35,12 @@ void write_file(const std::string& path, const std::string& text) {
 void run(const StudyOptions& o, const std::vector<st::StudyCase>& cases, int ref_a, int ref_b) {
   std::cout << fmt::format("{} simulations, {} photons each, mesh '{}', seed {}\n", cases.size(),
                            o.settings.photons, o.settings.mesh_preset, o.settings.seed);
-  std::cout << st::table_header() << std::flush;
+  std::cout << st::table_header(ref_a, ref_b) << std::flush;
   st::Predictor predictor(1);
   const st::StudyTable table =
       st::run_study(predictor, cases, o.settings, ref_a, ref_b,
                     [](const st::StudyRow& r) { std::cout << st::format_row(r) << std::flush; });
-  std::cout << fmt::format("T/T0, T/T3: relative to sim {} and sim {}; total {:.1f} s\n", ref_a, ref_b,
-                           table.seconds);
+  std::cout << fmt::format("total {:.1f} s\n", table.seconds);
   if (!o.json_path.empty()) write_file(o.json_path, st::to_json(table).dump(2) + "\n");
   if (!o.csv_path.empty()) write_file(o.csv_path, st::to_csv(table));
 }

@@ -69,10 +69,10 @@ StudyTable run_study(Predictor& predictor, const std::vector<StudyCase>& cases, 
 /// Recomputes the relative columns from the rows (used by run_study; public for tests).
 void fill_relatives(StudyTable& table);
 
-std::string format_table(const StudyTable& table);  ///< the table printed by `tocdlab study`
-std::string table_header();                         ///< its two header lines
-std::string format_row(const StudyRow& row);        ///< one line of it
-nlohmann::json to_json(const StudyTable& table);    ///< every number shown, plus configs and artefacts
-std::string to_csv(const StudyTable& table);        ///< one line per simulation, header first
+std::string format_table(const StudyTable& table);       ///< the table printed by `tocdlab study`
+std::string table_header(int ref_a = 0, int ref_b = 3);  ///< its two header lines
+std::string format_row(const StudyRow& row);             ///< one line of it
+nlohmann::json to_json(const StudyTable& table);         ///< every number shown, plus configs and artefacts
+std::string to_csv(const StudyTable& table);             ///< one line per simulation, header first
 
 }  // namespace tocd::sim::study
