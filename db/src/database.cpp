@@ -1,41 +1,330 @@
 #include "tocd/db/database.hpp"
 
+#include <mutex>
 #include <string>
 
-#include <sqlite3.h>
+#include <fmt/format.h>
+
+#include "rows.hpp"
+#include "run_lock.hpp"
+#include "schema.hpp"
+#include "sqlite_util.hpp"
+#include "tocd/core/clock.hpp"
+#include "tocd/core/log.hpp"
+#include "tocd/core/version.hpp"
+#include "uuid.hpp"
 
 namespace tocd::db {
 
-namespace {
-constexpr int kSchemaVersion = 1;
-}
+using detail::Statement;
+using detail::Transaction;
 
 struct Database::Impl {
-  sqlite3* handle = nullptr;
-  ~Impl() { sqlite3_close(handle); }
+  std::filesystem::path path;
+  detail::Connection c;
+  detail::RunLocks locks;
+  std::vector<std::int64_t> interrupted;
+  mutable std::mutex mu;
+
+  Impl(const std::filesystem::path& p, detail::Connection conn)
+      : path(p), c(std::move(conn)), locks(p, true) {}
+
+  std::int64_t insert_event(const EventRecord& e) {
+    Statement s(c,
+                "INSERT INTO events(run_id, t_ns, kind, message, step_index, data_json) VALUES(?,?,?,?,?,?)");
+    s.bind(1, e.run_id).bind(2, e.t_ns).bind(3, e.kind).bind(4, e.message);
+    if (e.step_index >= 0) s.bind(5, e.step_index);
+    if (!e.data_json.empty()) s.bind(6, e.data_json);
+    s.run();
+    return sqlite3_last_insert_rowid(c.get());
+  }
+
+  void add_anchor(std::int64_t run_id, std::int64_t wall, std::int64_t mono) {
+    Statement s(c,
+                "INSERT INTO run_anchors(run_id, segment, wall_utc_ns, monotonic_ns) VALUES(?, "
+                "(SELECT coalesce(max(segment) + 1, 0) FROM run_anchors WHERE run_id = ?), ?, ?)");
+    s.bind(1, run_id).bind(2, run_id).bind(3, wall).bind(4, mono).run();
+  }
+
+  // Runs left `running` by a process that no longer holds their lock were cut off.
+  void mark_interrupted() {
+    std::vector<RunRecord> stale;
+    for (auto& r : detail::all_runs(c))
+      if (r.status == RunStatus::running && !locks.is_held(r.id)) stale.push_back(std::move(r));
+    if (stale.empty()) return;
+    Transaction t(c);
+    for (const auto& r : stale) {
+      const auto last = detail::last_recorded_t_ns(c, r.id);
+      const auto anchors = detail::run_anchors(c, r.id);
+      const RunAnchor a =
+          anchors.empty() ? RunAnchor{r.id, 0, r.wall_anchor_utc_ns, r.monotonic_anchor_ns} : anchors.back();
+      Statement u(c, "UPDATE runs SET status = 'interrupted', ended_utc_ns = ? WHERE id = ?");
+      if (last) u.bind(1, a.wall_utc_ns + (*last - a.monotonic_ns));
+      u.bind(2, r.id).run();
+      EventRecord e;
+      e.run_id = r.id;
+      e.t_ns = last.value_or(a.monotonic_ns);
+      e.kind = "state";
+      e.message = "interrupted: the recording process ended without closing the run (found on open " +
+                  format_utc(wall_clock_ns()) + ")";
+      insert_event(e);
+      interrupted.push_back(r.id);
+    }
+    t.commit();
+    for (auto id : interrupted) logger("db")->warn("run {} was left running; marked interrupted", id);
+  }
 };
 
-Database::Database(const std::filesystem::path& path) : impl_(std::make_unique<Impl>()) {
-  if (sqlite3_open(path.c_str(), &impl_->handle) != SQLITE_OK) {
-    throw DatabaseError("cannot open database '" + path.string() + "': " + sqlite3_errmsg(impl_->handle));
-  }
-  if (schema_version() == 0) {
-    const std::string sql = "PRAGMA user_version = " + std::to_string(kSchemaVersion);
-    sqlite3_exec(impl_->handle, sql.c_str(), nullptr, nullptr, nullptr);
-  }
+Database Database::open(const std::filesystem::path& path) {
+  return Database(path);
+}
+
+Database::Database(const std::filesystem::path& path) {
+  detail::identify(path);  // refuses foreign and newer files before anything is written
+  detail::Connection c(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
+  detail::configure_read_write(c);
+  detail::migrate(c);
+  impl_ = std::make_unique<Impl>(path, std::move(c));
+  impl_->mark_interrupted();
 }
 
 Database::~Database() = default;
+Database::Database(Database&&) noexcept = default;
+Database& Database::operator=(Database&&) noexcept = default;
+
+const std::filesystem::path& Database::path() const noexcept {
+  return impl_->path;
+}
 
 int Database::schema_version() const {
-  sqlite3_stmt* stmt = nullptr;
-  if (sqlite3_prepare_v2(impl_->handle, "PRAGMA user_version", -1, &stmt, nullptr) != SQLITE_OK) {
-    throw DatabaseError(std::string("cannot read schema version: ") + sqlite3_errmsg(impl_->handle));
+  std::lock_guard lk(impl_->mu);
+  return static_cast<int>(impl_->c.query_int("PRAGMA user_version"));
+}
+
+const std::vector<std::int64_t>& Database::interrupted_on_open() const noexcept {
+  return impl_->interrupted;
+}
+
+std::string Database::integrity_check() const {
+  std::lock_guard lk(impl_->mu);
+  Statement s(impl_->c, "PRAGMA integrity_check");
+  std::string out;
+  while (s.step()) out += (out.empty() ? "" : "\n") + s.col_text(0);
+  return out;
+}
+
+std::int64_t Database::add_instrument(const InstrumentRecord& in) {
+  std::lock_guard lk(impl_->mu);
+  Statement s(impl_->c,
+              "INSERT INTO instruments(kind, model, serial, firmware, calibration) VALUES(?,?,?,?,?) "
+              "ON CONFLICT(model, serial) DO UPDATE SET kind = excluded.kind, firmware = excluded.firmware, "
+              "calibration = excluded.calibration RETURNING id");
+  s.bind(1, in.kind).bind(2, in.model).bind(3, in.serial).bind(4, in.firmware).bind(5, in.calibration);
+  if (!s.step()) throw DatabaseError("adding instrument '" + in.model + "' returned no id");
+  const auto id = s.col_int(0);
+  s.run();
+  return id;
+}
+
+std::int64_t Database::add_sample(const SampleRecord& sp) {
+  std::lock_guard lk(impl_->mu);
+  Statement s(impl_->c, "INSERT INTO specimens(name, tissue, thickness_mm, notes) VALUES(?,?,?,?)");
+  s.bind(1, sp.name).bind(2, sp.tissue).bind(3, sp.thickness_mm).bind(4, sp.notes).run();
+  return sqlite3_last_insert_rowid(impl_->c.get());
+}
+
+RunRecord Database::create_run(const NewRun& in) {
+  std::lock_guard lk(impl_->mu);
+  RunRecord r;
+  r.uuid = detail::random_uuid();
+  r.name = in.name;
+  r.sample_id = in.sample_id;
+  r.protocol_text = in.protocol_text;
+  r.lab_config_text = in.lab_config_text;
+  r.software_version = in.software_version.empty() ? std::string(tocd::version()) : in.software_version;
+  r.operator_name = in.operator_name;
+  r.baseline_power_W = in.baseline_power_W;
+  // The anchor pair: both clocks read back to back (sub-microsecond apart).
+  r.monotonic_anchor_ns = monotonic_ns();
+  r.wall_anchor_utc_ns = wall_clock_ns();
+  r.started_utc_ns = r.wall_anchor_utc_ns;
+  r.status = RunStatus::running;
+
+  Transaction t(impl_->c);
+  Statement s(impl_->c,
+              "INSERT INTO runs(uuid, name, specimen_id, protocol, lab_config, software_version, operator, "
+              "baseline_power_W, wall_anchor_utc_ns, monotonic_anchor_ns, started_utc_ns, status) "
+              "VALUES(?,?,?,?,?,?,?,?,?,?,?,'running')");
+  s.bind(1, r.uuid)
+      .bind(2, r.name)
+      .bind_id(3, r.sample_id)
+      .bind(4, r.protocol_text)
+      .bind(5, r.lab_config_text);
+  s.bind(6, r.software_version).bind(7, r.operator_name).bind(8, r.baseline_power_W);
+  s.bind(9, r.wall_anchor_utc_ns).bind(10, r.monotonic_anchor_ns).bind(11, r.started_utc_ns).run();
+  r.id = sqlite3_last_insert_rowid(impl_->c.get());
+  impl_->add_anchor(r.id, r.wall_anchor_utc_ns, r.monotonic_anchor_ns);
+  // Lock before commit: from the moment the run is visible as running, it is visibly live.
+  if (!impl_->locks.acquire(r.id))
+    throw DatabaseError(fmt::format("run {} is already locked by another process", r.id));
+  t.commit();
+  return r;
+}
+
+void Database::set_run_status(std::int64_t run_id, RunStatus status) {
+  if (status == RunStatus::running)
+    throw DatabaseError("a run cannot be set back to running; use resume (run " + std::to_string(run_id) +
+                        ")");
+  std::lock_guard lk(impl_->mu);
+  detail::require_run(impl_->c, run_id);
+  Statement s(impl_->c, "UPDATE runs SET status = ?, ended_utc_ns = ? WHERE id = ?");
+  s.bind(1, to_string(status)).bind(2, wall_clock_ns()).bind(3, run_id).run();
+  impl_->locks.release(run_id);
+}
+
+void Database::set_baseline_power(std::int64_t run_id, double baseline_power_W) {
+  std::lock_guard lk(impl_->mu);
+  detail::require_run(impl_->c, run_id);
+  Statement s(impl_->c, "UPDATE runs SET baseline_power_W = ? WHERE id = ?");
+  s.bind(1, baseline_power_W).bind(2, run_id).run();
+}
+
+ResumePoint Database::resume_run(std::int64_t run_id) {
+  std::lock_guard lk(impl_->mu);
+  RunRecord r = detail::require_run(impl_->c, run_id);
+  if (r.status == RunStatus::completed)
+    throw DatabaseError(fmt::format("run {} is completed; there is nothing to resume", run_id));
+  if (r.status == RunStatus::running)
+    throw DatabaseError(fmt::format("run {} is still running{}; it cannot be resumed", run_id,
+                                    impl_->locks.is_held(run_id) ? " in another process" : ""));
+  if (!impl_->locks.acquire(run_id))
+    throw DatabaseError(fmt::format("run {} is being resumed by another process", run_id));
+  try {
+    ResumePoint p;
+    Transaction t(impl_->c);
+    p.first_incomplete_step = detail::first_incomplete_step(impl_->c, run_id);
+    const auto last = detail::last_recorded_t_ns(impl_->c, run_id);
+    p.gap_to_t_ns = monotonic_ns();
+    const auto wall = wall_clock_ns();
+    p.gap_from_t_ns = last.value_or(p.gap_to_t_ns);
+    impl_->add_anchor(run_id, wall, p.gap_to_t_ns);
+    Statement s(impl_->c, "UPDATE runs SET status = 'running', ended_utc_ns = NULL WHERE id = ?");
+    s.bind(1, run_id).run();
+    p.gap_event.run_id = run_id;
+    p.gap_event.t_ns = p.gap_to_t_ns;
+    p.gap_event.kind = "gap";
+    p.gap_event.step_index = p.first_incomplete_step;
+    const bool same_boot = last && *last <= p.gap_to_t_ns;
+    p.gap_event.message =
+        same_boot ? fmt::format("resumed after a gap of {:.3f} s (was {}); continuing at step {}",
+                                static_cast<double>(p.gap_to_t_ns - *last) * 1e-9, to_string(r.status),
+                                p.first_incomplete_step)
+                  : fmt::format(
+                        "resumed (was {}; monotonic clock restarted, see run_anchors); continuing at step {}",
+                        to_string(r.status), p.first_incomplete_step);
+    p.gap_event.data_json = fmt::format(R"({{"gap_from_t_ns":{},"gap_to_t_ns":{},"resumed_utc_ns":{}}})",
+                                        p.gap_from_t_ns, p.gap_to_t_ns, wall);
+    p.gap_event.id = impl_->insert_event(p.gap_event);
+    t.commit();
+    r.status = RunStatus::running;
+    r.ended_utc_ns.reset();
+    p.run = r;
+    return p;
+  } catch (...) {
+    impl_->locks.release(run_id);
+    throw;
   }
-  int version = -1;
-  if (sqlite3_step(stmt) == SQLITE_ROW) version = sqlite3_column_int(stmt, 0);
-  sqlite3_finalize(stmt);
-  return version;
+}
+
+bool Database::is_live(std::int64_t run_id) const {
+  std::lock_guard lk(impl_->mu);
+  return impl_->locks.is_held(run_id);
+}
+
+Channel Database::add_channel(const Channel& ch) {
+  std::lock_guard lk(impl_->mu);
+  detail::require_run(impl_->c, ch.run_id);
+  Statement s(impl_->c,
+              "INSERT INTO channels(run_id, name, unit, instrument_id, nominal_rate_Hz) VALUES(?,?,?,?,?)");
+  s.bind(1, ch.run_id)
+      .bind(2, ch.name)
+      .bind(3, ch.unit)
+      .bind_id(4, ch.instrument_id)
+      .bind(5, ch.nominal_rate_Hz);
+  try {
+    s.run();
+  } catch (const DatabaseError& e) {
+    throw DatabaseError(fmt::format("cannot add channel '{}' to run {}: {}", ch.name, ch.run_id, e.what()));
+  }
+  Channel out = ch;
+  out.id = sqlite3_last_insert_rowid(impl_->c.get());
+  return out;
+}
+
+std::int64_t Database::add_step(const StepRecord& st) {
+  std::lock_guard lk(impl_->mu);
+  auto& c = impl_->c;
+  detail::require_run(c, st.run_id);
+  Transaction t(c);
+  Statement del(c, "DELETE FROM steps WHERE run_id = ? AND step_index = ?");  // stats cascade
+  del.bind(1, st.run_id).bind(2, st.index).run();
+  Statement s(
+      c,
+      "INSERT INTO steps(run_id, step_index, target_displacement_mm, nominal_strain, target_pressure_kPa, "
+      "started_t_ns, settled_t_ns, recorded_from_t_ns, recorded_to_t_ns, measured_transmission, completed) "
+      "VALUES(?,?,?,?,?,?,?,?,?,?,?)");
+  s.bind(1, st.run_id).bind(2, st.index).bind(3, st.target_displacement_mm).bind(4, st.nominal_strain);
+  s.bind(5, st.target_pressure_kPa).bind(6, st.started_t_ns).bind(7, st.settled_t_ns);
+  s.bind(8, st.recorded_from_t_ns).bind(9, st.recorded_to_t_ns).bind(10, st.measured_transmission);
+  s.bind(11, st.completed ? 1 : 0).run();
+  const auto id = sqlite3_last_insert_rowid(c.get());
+  Statement x(c, "INSERT INTO step_channel_stats(step_id, channel_id, mean, std, n) VALUES(?,?,?,?,?)");
+  for (const auto& cs : st.channels) {
+    try {
+      x.bind(1, id).bind(2, cs.channel_id).bind(3, cs.mean).bind(4, cs.std).bind(5, cs.n).run();
+    } catch (const DatabaseError& e) {
+      throw DatabaseError(fmt::format("step {} of run {}: statistics for channel {}: {}", st.index, st.run_id,
+                                      cs.channel_id, e.what()));
+    }
+    x.reset();
+  }
+  t.commit();
+  return id;
+}
+
+std::int64_t Database::add_event(const EventRecord& e) {
+  std::lock_guard lk(impl_->mu);
+  try {
+    return impl_->insert_event(e);
+  } catch (const DatabaseError& err) {
+    throw DatabaseError(fmt::format("cannot record event '{}' of run {}: {}", e.kind, e.run_id, err.what()));
+  }
+}
+
+std::int64_t Database::add_prediction(const PredictionRecord& p) {
+  std::lock_guard lk(impl_->mu);
+  detail::require_run(impl_->c, p.run_id);
+  Statement s(
+      impl_->c,
+      "INSERT INTO predictions(run_id, step_index, config_json, T, T_stderr, fe_seconds, mesh_seconds, "
+      "mc_seconds, total_seconds, software_version, summary_json, created_utc_ns) "
+      "VALUES(?,?,?,?,?,?,?,?,?,?,?,?)");
+  s.bind(1, p.run_id).bind(2, p.step_index).bind(3, p.config_json).bind(4, p.T).bind(5, p.T_stderr);
+  s.bind(6, p.fe_seconds).bind(7, p.mesh_seconds).bind(8, p.mc_seconds).bind(9, p.total_seconds);
+  s.bind(10, p.software_version.empty() ? std::string(tocd::version()) : p.software_version);
+  if (!p.summary_json.empty()) s.bind(11, p.summary_json);
+  s.bind(12, p.created_utc_ns != 0 ? p.created_utc_ns : wall_clock_ns()).run();
+  return sqlite3_last_insert_rowid(impl_->c.get());
+}
+
+int Database::first_incomplete_step(std::int64_t run_id) const {
+  std::lock_guard lk(impl_->mu);
+  return detail::first_incomplete_step(impl_->c, run_id);
+}
+
+RunRecord Database::run(std::int64_t run_id) const {
+  std::lock_guard lk(impl_->mu);
+  return detail::require_run(impl_->c, run_id);
 }
 
 }  // namespace tocd::db

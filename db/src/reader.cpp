@@ -1,0 +1,245 @@
+#include "tocd/db/reader.hpp"
+
+#include <algorithm>
+#include <mutex>
+
+#include "rows.hpp"
+#include "run_lock.hpp"
+#include "schema.hpp"
+#include "sqlite_util.hpp"
+#include "tocd/db/database.hpp"
+
+namespace tocd::db {
+
+using detail::Statement;
+
+struct Reader::Impl {
+  detail::Connection c;
+  detail::RunLocks locks;
+  mutable std::mutex mu;
+  explicit Impl(const std::filesystem::path& p) : c(detail::open_read_only(p)), locks(p, false) {}
+};
+
+namespace {
+
+constexpr const char* kRange = " channel_id = ?1 AND t_ns BETWEEN ?2 AND ?3";
+
+void bind_range(Statement& s, std::int64_t channel_id, const SampleQuery& q) {
+  s.bind(1, channel_id).bind(2, q.from_t_ns).bind(3, q.to_t_ns);
+}
+
+std::vector<Sample> all_samples(const detail::Connection& c, std::int64_t channel_id, const SampleQuery& q) {
+  Statement s(c, std::string("SELECT t_ns, value FROM samples WHERE") + kRange + " ORDER BY t_ns");
+  bind_range(s, channel_id, q);
+  std::vector<Sample> out;
+  while (s.step()) out.push_back({channel_id, s.col_int(0), s.col_double(1)});
+  return out;
+}
+
+// Buckets of equal time width over [t_min, t_max] of the samples in range.
+std::vector<Sample> decimated(const detail::Connection& c, std::int64_t channel_id, const SampleQuery& q) {
+  Statement span(c, std::string("SELECT count(*), min(t_ns), max(t_ns) FROM samples WHERE") + kRange);
+  bind_range(span, channel_id, q);
+  span.step();
+  const auto n = span.col_int(0);
+  const std::size_t per_bucket = q.decimation == Decimation::min_max ? 2 : 1;
+  const auto buckets = static_cast<std::int64_t>(std::max<std::size_t>(1, q.max_points / per_bucket));
+  if (n <= static_cast<std::int64_t>(q.max_points)) return all_samples(c, channel_id, q);
+  const std::int64_t t0 = span.col_int(1), t1 = span.col_int(2);
+  const std::int64_t width = (t1 - t0) / buckets + 1;
+
+  std::vector<Sample> out;
+  if (q.decimation == Decimation::mean) {
+    // Mean time relative to t0 keeps the average exact in a double.
+    Statement s(c,
+                std::string("SELECT (t_ns - ?4) / ?5 AS b, avg(t_ns - ?4), avg(value) FROM samples WHERE") +
+                    kRange + " GROUP BY b ORDER BY b");
+    bind_range(s, channel_id, q);
+    s.bind(4, t0).bind(5, width);
+    while (s.step())
+      out.push_back({channel_id, t0 + static_cast<std::int64_t>(s.col_double(1)), s.col_double(2)});
+    return out;
+  }
+  // min_max: SQLite takes the bare column t_ns from the row that holds the min (max) value.
+  const auto extreme = [&](const char* fn) {
+    Statement s(c, std::string("SELECT (t_ns - ?4) / ?5 AS b, t_ns, ") + fn + "(value) FROM samples WHERE" +
+                       kRange + " GROUP BY b ORDER BY b");
+    bind_range(s, channel_id, q);
+    s.bind(4, t0).bind(5, width);
+    std::vector<std::pair<std::int64_t, Sample>> v;
+    while (s.step()) v.push_back({s.col_int(0), {channel_id, s.col_int(1), s.col_double(2)}});
+    return v;
+  };
+  const auto lo = extreme("min"), hi = extreme("max");
+  for (std::size_t i = 0; i < lo.size() && i < hi.size(); ++i) {
+    Sample a = lo[i].second, b = hi[i].second;
+    if (b.t_ns < a.t_ns) std::swap(a, b);
+    out.push_back(a);
+    if (b.t_ns != a.t_ns) out.push_back(b);
+  }
+  return out;
+}
+
+}  // namespace
+
+Reader::Reader(const std::filesystem::path& db_path) : impl_(std::make_unique<Impl>(db_path)) {}
+Reader::~Reader() = default;
+Reader::Reader(Reader&&) noexcept = default;
+Reader& Reader::operator=(Reader&&) noexcept = default;
+
+std::vector<RunSummary> Reader::runs() const {
+  std::lock_guard lk(impl_->mu);
+  auto& c = impl_->c;
+  Statement counts(c,
+                   "SELECT (SELECT count(*) FROM steps WHERE run_id = ?1), (SELECT count(*) FROM predictions "
+                   "WHERE run_id = ?1), (SELECT count(*) FROM events WHERE run_id = ?1)");
+  std::vector<RunSummary> out;
+  // One read transaction: the list and its counts describe the same instant.
+  c.exec("BEGIN");
+  try {
+    for (auto& r : detail::all_runs(c)) {
+      RunSummary s;
+      counts.bind(1, r.id);
+      counts.step();
+      s.steps = static_cast<int>(counts.col_int(0));
+      s.predictions = static_cast<int>(counts.col_int(1));
+      s.events = static_cast<int>(counts.col_int(2));
+      counts.reset();
+      s.live = impl_->locks.is_held(r.id);
+      s.run = std::move(r);
+      out.push_back(std::move(s));
+    }
+  } catch (...) {
+    c.exec("ROLLBACK");
+    throw;
+  }
+  c.exec("COMMIT");
+  return out;
+}
+
+std::optional<RunRecord> Reader::find_run(std::int64_t run_id) const {
+  std::lock_guard lk(impl_->mu);
+  return detail::find_run(impl_->c, run_id);
+}
+
+RunRecord Reader::run(std::int64_t run_id) const {
+  std::lock_guard lk(impl_->mu);
+  return detail::require_run(impl_->c, run_id);
+}
+
+std::vector<RunAnchor> Reader::anchors(std::int64_t run_id) const {
+  std::lock_guard lk(impl_->mu);
+  return detail::run_anchors(impl_->c, run_id);
+}
+
+bool Reader::is_live(std::int64_t run_id) const {
+  std::lock_guard lk(impl_->mu);
+  return impl_->locks.is_held(run_id);
+}
+
+std::optional<InstrumentRecord> Reader::instrument(std::int64_t instrument_id) const {
+  for (auto& i : instruments())
+    if (i.id == instrument_id) return i;
+  return std::nullopt;
+}
+
+std::vector<InstrumentRecord> Reader::instruments() const {
+  std::lock_guard lk(impl_->mu);
+  Statement s(impl_->c, "SELECT id, kind, model, serial, firmware, calibration FROM instruments ORDER BY id");
+  std::vector<InstrumentRecord> out;
+  while (s.step())
+    out.push_back({s.col_int(0), s.col_text(1), s.col_text(2), s.col_text(3), s.col_text(4), s.col_text(5)});
+  return out;
+}
+
+std::optional<SampleRecord> Reader::sample(std::int64_t sample_id) const {
+  std::lock_guard lk(impl_->mu);
+  Statement s(impl_->c, "SELECT id, name, tissue, thickness_mm, notes FROM specimens WHERE id = ?");
+  s.bind(1, sample_id);
+  if (!s.step()) return std::nullopt;
+  return SampleRecord{s.col_int(0), s.col_text(1), s.col_text(2), s.col_double(3), s.col_text(4)};
+}
+
+std::vector<Channel> Reader::channels(std::int64_t run_id) const {
+  std::lock_guard lk(impl_->mu);
+  return detail::run_channels(impl_->c, run_id);
+}
+
+std::optional<Channel> Reader::channel(std::int64_t run_id, const std::string& name) const {
+  for (auto& ch : channels(run_id))
+    if (ch.name == name) return ch;
+  return std::nullopt;
+}
+
+std::vector<Sample> Reader::samples(std::int64_t channel_id, const SampleQuery& q) const {
+  std::lock_guard lk(impl_->mu);
+  if (q.decimation == Decimation::none) return all_samples(impl_->c, channel_id, q);
+  impl_->c.exec("BEGIN");  // the span and the buckets from one snapshot
+  try {
+    auto out = decimated(impl_->c, channel_id, q);
+    impl_->c.exec("COMMIT");
+    return out;
+  } catch (...) {
+    impl_->c.exec("ROLLBACK");
+    throw;
+  }
+}
+
+std::int64_t Reader::sample_count(std::int64_t channel_id, const SampleQuery& q) const {
+  std::lock_guard lk(impl_->mu);
+  Statement s(impl_->c, std::string("SELECT count(*) FROM samples WHERE") + kRange);
+  bind_range(s, channel_id, q);
+  s.step();
+  return s.col_int(0);
+}
+
+std::vector<StepRecord> Reader::steps(std::int64_t run_id) const {
+  std::lock_guard lk(impl_->mu);
+  return detail::run_steps(impl_->c, run_id);
+}
+
+std::vector<EventRecord> Reader::events(std::int64_t run_id) const {
+  std::lock_guard lk(impl_->mu);
+  return detail::run_events(impl_->c, run_id);
+}
+
+std::vector<PredictionRecord> Reader::predictions(std::int64_t run_id) const {
+  std::lock_guard lk(impl_->mu);
+  return detail::run_predictions(impl_->c, run_id);
+}
+
+std::vector<CompareRow> Reader::compare(std::int64_t run_id) const {
+  std::vector<StepRecord> st;
+  std::vector<PredictionRecord> pr;
+  {
+    std::lock_guard lk(impl_->mu);
+    impl_->c.exec("BEGIN");
+    try {
+      st = detail::run_steps(impl_->c, run_id);
+      pr = detail::run_predictions(impl_->c, run_id);
+    } catch (...) {
+      impl_->c.exec("ROLLBACK");
+      throw;
+    }
+    impl_->c.exec("COMMIT");
+  }
+  std::vector<CompareRow> out;
+  for (auto& s : st) {
+    CompareRow row;
+    // Predictions come ordered by (step, id): the last match is the latest.
+    for (const auto& p : pr)
+      if (p.step_index == s.index) row.prediction = p;
+    if (row.prediction && s.measured_transmission != 0)
+      row.relative_difference = (row.prediction->T - s.measured_transmission) / s.measured_transmission;
+    row.step = std::move(s);
+    out.push_back(std::move(row));
+  }
+  return out;
+}
+
+int Reader::first_incomplete_step(std::int64_t run_id) const {
+  std::lock_guard lk(impl_->mu);
+  return detail::first_incomplete_step(impl_->c, run_id);
+}
+
+}  // namespace tocd::db

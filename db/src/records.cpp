@@ -1,0 +1,30 @@
+#include "tocd/db/records.hpp"
+
+#include <string>
+
+#include "tocd/db/database.hpp"
+
+namespace tocd::db {
+
+std::string_view to_string(RunStatus status) noexcept {
+  switch (status) {
+    case RunStatus::running:
+      return "running";
+    case RunStatus::completed:
+      return "completed";
+    case RunStatus::aborted:
+      return "aborted";
+    case RunStatus::interrupted:
+      return "interrupted";
+  }
+  return "unknown";
+}
+
+RunStatus run_status_from_string(std::string_view text) {
+  for (auto s : {RunStatus::running, RunStatus::completed, RunStatus::aborted, RunStatus::interrupted})
+    if (to_string(s) == text) return s;
+  throw DatabaseError("unknown run status '" + std::string(text) +
+                      "' (expected running, completed, aborted or interrupted)");
+}
+
+}  // namespace tocd::db

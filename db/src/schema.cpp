@@ -1,0 +1,153 @@
+#include "schema.hpp"
+
+#include <array>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "tocd/core/clock.hpp"
+#include "tocd/core/version.hpp"
+
+namespace tocd::db::detail {
+
+namespace {
+
+// Migration i brings a file from version i to version i + 1. Never edit a released entry:
+// append a new one and bump Database::kSchemaVersion (docs/database.md lists them).
+constexpr std::array<const char*, Database::kSchemaVersion> kMigrations = {
+    // 0 -> 1: the initial schema.
+    R"sql(
+CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT NOT NULL);
+CREATE TABLE instruments(
+  id INTEGER PRIMARY KEY, kind TEXT NOT NULL DEFAULT '', model TEXT NOT NULL, serial TEXT NOT NULL,
+  firmware TEXT NOT NULL DEFAULT '', calibration TEXT NOT NULL DEFAULT '', UNIQUE(model, serial));
+CREATE TABLE specimens(
+  id INTEGER PRIMARY KEY, name TEXT NOT NULL DEFAULT '', tissue TEXT NOT NULL DEFAULT '',
+  thickness_mm REAL, notes TEXT NOT NULL DEFAULT '');
+CREATE TABLE runs(
+  id INTEGER PRIMARY KEY, uuid TEXT NOT NULL UNIQUE, name TEXT NOT NULL DEFAULT '',
+  specimen_id INTEGER REFERENCES specimens(id), protocol TEXT NOT NULL, lab_config TEXT NOT NULL,
+  software_version TEXT NOT NULL, operator TEXT NOT NULL DEFAULT '', baseline_power_W REAL,
+  wall_anchor_utc_ns INTEGER NOT NULL, monotonic_anchor_ns INTEGER NOT NULL,
+  started_utc_ns INTEGER NOT NULL, ended_utc_ns INTEGER,
+  status TEXT NOT NULL CHECK(status IN ('running', 'completed', 'aborted', 'interrupted')));
+CREATE TABLE run_anchors(
+  run_id INTEGER NOT NULL REFERENCES runs(id), segment INTEGER NOT NULL,
+  wall_utc_ns INTEGER NOT NULL, monotonic_ns INTEGER NOT NULL, PRIMARY KEY(run_id, segment));
+CREATE TABLE channels(
+  id INTEGER PRIMARY KEY, run_id INTEGER NOT NULL REFERENCES runs(id), name TEXT NOT NULL,
+  unit TEXT NOT NULL DEFAULT '', instrument_id INTEGER REFERENCES instruments(id),
+  nominal_rate_Hz REAL, UNIQUE(run_id, name));
+CREATE TABLE samples(
+  run_id INTEGER NOT NULL, channel_id INTEGER NOT NULL, t_ns INTEGER NOT NULL, value REAL);
+CREATE INDEX samples_by_channel_time ON samples(channel_id, t_ns);
+CREATE TABLE steps(
+  id INTEGER PRIMARY KEY, run_id INTEGER NOT NULL REFERENCES runs(id), step_index INTEGER NOT NULL,
+  target_displacement_mm REAL, nominal_strain REAL, target_pressure_kPa REAL,
+  started_t_ns INTEGER, settled_t_ns INTEGER, recorded_from_t_ns INTEGER, recorded_to_t_ns INTEGER,
+  measured_transmission REAL, completed INTEGER NOT NULL, UNIQUE(run_id, step_index));
+CREATE TABLE step_channel_stats(
+  step_id INTEGER NOT NULL REFERENCES steps(id) ON DELETE CASCADE,
+  channel_id INTEGER NOT NULL REFERENCES channels(id), mean REAL, std REAL, n INTEGER NOT NULL,
+  PRIMARY KEY(step_id, channel_id));
+CREATE TABLE events(
+  id INTEGER PRIMARY KEY, run_id INTEGER NOT NULL REFERENCES runs(id), t_ns INTEGER NOT NULL,
+  kind TEXT NOT NULL, message TEXT NOT NULL DEFAULT '', step_index INTEGER, data_json TEXT);
+CREATE INDEX events_by_run_time ON events(run_id, t_ns);
+CREATE TABLE predictions(
+  id INTEGER PRIMARY KEY, run_id INTEGER NOT NULL REFERENCES runs(id), step_index INTEGER NOT NULL,
+  config_json TEXT NOT NULL, T REAL, T_stderr REAL, fe_seconds REAL, mesh_seconds REAL,
+  mc_seconds REAL, total_seconds REAL, software_version TEXT NOT NULL, summary_json TEXT,
+  created_utc_ns INTEGER NOT NULL);
+CREATE INDEX predictions_by_run_step ON predictions(run_id, step_index);
+)sql",
+};
+
+std::string hex(std::int64_t v) {
+  return fmt::format("0x{:08X}", static_cast<std::uint32_t>(v));
+}
+
+}  // namespace
+
+FileIdentity identify(const std::filesystem::path& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const auto status = fs::status(path, ec);
+  if (!fs::exists(status)) return {true, 0};
+  if (!fs::is_regular_file(status))
+    throw DatabaseError("'" + path.string() + "' is not a regular file, so not a tocdlab database");
+  if (fs::file_size(path, ec) == 0 && !ec) return {true, 0};
+
+  Connection c(path, SQLITE_OPEN_READONLY);
+  const std::string name = "'" + path.string() + "'";
+  std::int64_t app_id = 0, version = 0, objects = 0;
+  try {
+    app_id = c.query_int("PRAGMA application_id");
+    version = c.query_int("PRAGMA user_version");
+    objects = c.query_int("SELECT count(*) FROM sqlite_master");
+  } catch (const DatabaseError& e) {
+    throw DatabaseError(name + " is not a tocdlab database (not a readable SQLite file: " +
+                        sqlite3_errmsg(c.get()) + "); it was left untouched");
+  }
+  if (app_id != Database::kApplicationId) {
+    if (app_id == 0 && objects == 0 && version == 0) return {true, 0};
+    throw DatabaseError(
+        fmt::format("{} is an SQLite database of another application (application_id {}, {} schema objects), "
+                    "not a tocdlab database (application_id {}); it was left untouched",
+                    name, hex(app_id), objects, hex(Database::kApplicationId)));
+  }
+  if (version > Database::kSchemaVersion)
+    throw DatabaseError(
+        fmt::format("{} was written by a newer tocdlab (schema version {}; this build {} knows up to {}); "
+                    "upgrade tocdlab to use it. The file was left untouched",
+                    name, version, tocd::version(), Database::kSchemaVersion));
+  return {false, static_cast<int>(version)};
+}
+
+void configure_read_write(const Connection& c) {
+  // WAL: readers and the writer never block each other. synchronous=NORMAL: a commit is
+  // durable against a process crash; an OS crash / power loss may undo the last commits
+  // (never corrupt). See docs/database.md, "Durability".
+  c.exec("PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL; PRAGMA foreign_keys=ON;");
+}
+
+int migrate(const Connection& c) {
+  Transaction t(c);  // BEGIN IMMEDIATE: two processes opening a new file migrate one at a time
+  const auto app_id = c.query_int("PRAGMA application_id");
+  const int found = static_cast<int>(c.query_int("PRAGMA user_version"));
+  if (app_id != 0 && app_id != Database::kApplicationId)
+    throw DatabaseError("not a tocdlab database (application_id " + hex(app_id) + ")");
+  if (found > Database::kSchemaVersion)
+    throw DatabaseError(fmt::format("written by a newer tocdlab (schema version {})", found));
+  for (int v = found; v < Database::kSchemaVersion; ++v) c.exec(kMigrations[static_cast<std::size_t>(v)]);
+  if (found < Database::kSchemaVersion) {
+    c.exec(fmt::format("PRAGMA application_id = {}; PRAGMA user_version = {};", Database::kApplicationId,
+                       Database::kSchemaVersion));
+    Statement meta(c, "INSERT OR REPLACE INTO meta(key, value) VALUES(?, ?)");
+    const auto put = [&](std::string_view k, std::string_view v) {
+      meta.bind(1, k).bind(2, v).run();
+      meta.reset();
+    };
+    put("application", "tocdlab");
+    put("schema_version", std::to_string(Database::kSchemaVersion));
+    put("migrated_by_version", tocd::version());
+    put("migrated_utc", format_utc(wall_clock_ns()));
+    if (found == 0) put("created_utc", format_utc(wall_clock_ns()));
+  }
+  t.commit();
+  return found;
+}
+
+Connection open_read_only(const std::filesystem::path& path) {
+  if (!std::filesystem::exists(path)) throw DatabaseError("no database at '" + path.string() + "'");
+  const FileIdentity id = identify(path);
+  if (id.is_new) throw DatabaseError("'" + path.string() + "' is an empty file, not a tocdlab database");
+  if (id.schema_version < Database::kSchemaVersion)
+    throw DatabaseError(
+        fmt::format("'{}' has schema version {} (current {}): open it once read-write with this tocdlab "
+                    "to upgrade it",
+                    path.string(), id.schema_version, Database::kSchemaVersion));
+  return Connection(path, SQLITE_OPEN_READONLY);
+}
+
+}  // namespace tocd::db::detail

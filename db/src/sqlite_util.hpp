@@ -1,0 +1,93 @@
+#pragma once
+
+// Thin RAII layer over the SQLite C API: a connection, prepared statements, typed binds and
+// column reads that turn SQL NULL into NaN / 0, and errors into DatabaseError.
+
+#include <concepts>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include <sqlite3.h>
+
+#include "tocd/db/database.hpp"
+
+namespace tocd::db::detail {
+
+/// Throws DatabaseError "<what>: <sqlite message>" for a failed call on `db`.
+[[noreturn]] void fail(sqlite3* db, std::string_view what);
+
+class Connection {
+ public:
+  Connection() = default;
+  /// sqlite3_open_v2 with `flags`; a busy timeout so short lock waits never surface as errors.
+  Connection(const std::filesystem::path& path, int flags, int busy_timeout_ms = 10000);
+  ~Connection();
+  Connection(Connection&& other) noexcept : db_(other.db_) { other.db_ = nullptr; }
+  Connection& operator=(Connection&& other) noexcept;
+  Connection(const Connection&) = delete;
+  Connection& operator=(const Connection&) = delete;
+
+  sqlite3* get() const noexcept { return db_; }
+  /// Runs one or more statements without results.
+  void exec(const std::string& sql) const;
+  /// First column of the first row of a query as an integer (0 when no row).
+  std::int64_t query_int(const std::string& sql) const;
+
+ private:
+  sqlite3* db_ = nullptr;
+};
+
+class Statement {
+ public:
+  Statement(const Connection& c, std::string_view sql);
+  ~Statement();
+  Statement(const Statement&) = delete;
+  Statement& operator=(const Statement&) = delete;
+
+  // Binds are 1-based as in SQLite. NaN doubles bind NULL.
+  Statement& bind(int i, std::int64_t v);
+  template <std::integral T>
+  requires(!std::same_as<T, std::int64_t> && !std::same_as<T, bool>) Statement& bind(int i, T v) {
+    return bind(i, static_cast<std::int64_t>(v));
+  }
+  Statement& bind(int i, double v);
+  Statement& bind(int i, std::string_view v);  // copied (SQLITE_TRANSIENT)
+  Statement& bind_null(int i);
+  /// Binds NULL for an id of 0 (no reference), else the id.
+  Statement& bind_id(int i, std::int64_t id) { return id == 0 ? bind_null(i) : bind(i, id); }
+
+  /// Steps once: true when a row is ready, false when done. Throws on error.
+  bool step();
+  /// Steps to completion (for statements without rows).
+  void run();
+  void reset();  // reset + clear bindings
+
+  std::int64_t col_int(int i) const;  // NULL -> 0
+  double col_double(int i) const;     // NULL -> NaN
+  std::string col_text(int i) const;  // NULL -> ""
+  bool col_null(int i) const;
+
+  sqlite3_stmt* get() const noexcept { return stmt_; }
+
+ private:
+  sqlite3* db_ = nullptr;
+  sqlite3_stmt* stmt_ = nullptr;
+};
+
+/// BEGIN IMMEDIATE .. COMMIT, rolled back when destroyed without commit().
+class Transaction {
+ public:
+  explicit Transaction(const Connection& c);
+  ~Transaction();
+  Transaction(const Transaction&) = delete;
+  Transaction& operator=(const Transaction&) = delete;
+  void commit();
+
+ private:
+  const Connection& c_;
+  bool open_ = true;
+};
+
+}  // namespace tocd::db::detail
