@@ -1,0 +1,38 @@
+#pragma once
+
+#include <cstdint>
+#include <future>
+#include <string>
+
+namespace tocd::acquisition {
+
+/// A step as recorded, handed to the simulator for a prediction of its transmission.
+struct RecordedStep {
+  std::int64_t run_id = 0;
+  int index = 0;
+  double displacement_mm = 0;  ///< target pin displacement into the sample
+  double thickness_mm = 0;
+  double load_N = 0;      ///< mean load over the recording window
+  double measured_T = 0;  ///< mean power / baseline power
+};
+
+/// The simulator's answer for one step.
+struct PredictedStep {
+  double T = 0, T_stderr = 0;
+  std::string config_json;  ///< everything needed to reproduce the prediction
+  double seconds = 0;       ///< wall time of the prediction
+  double fe_seconds = -1, mesh_seconds = -1, mc_seconds = -1;  ///< < 0 = not reported
+  std::string summary_json;                                    ///< optional extras ("" = none)
+};
+
+/// Predicts a recorded step's transmission. Implemented over sim::study::Predictor in
+/// acquisition/src/sim_step_predictor.cpp. The engine calls predict() from its prediction
+/// thread, never from an acquisition thread, and waits on the futures there; an exception
+/// stored in the future is logged as a "prediction" event and the step keeps no prediction.
+class StepPredictor {
+ public:
+  virtual ~StepPredictor() = default;
+  virtual std::future<PredictedStep> predict(const RecordedStep& step) = 0;
+};
+
+}  // namespace tocd::acquisition

@@ -1,0 +1,341 @@
+// Run engine lifecycle: start, resume, operator requests, state, observer plumbing.
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "engine_impl.hpp"
+#include "tocd/core/log.hpp"
+#include "tocd/core/version.hpp"
+#include "tocd/db/reader.hpp"
+
+namespace tocd::acquisition {
+
+std::string_view to_string(EngineState s) noexcept {
+  switch (s) {
+    case EngineState::idle:
+      return "idle";
+    case EngineState::starting:
+      return "starting";
+    case EngineState::moving:
+      return "moving";
+    case EngineState::settling:
+      return "settling";
+    case EngineState::holding:
+      return "holding";
+    case EngineState::recording:
+      return "recording";
+    case EngineState::paused:
+      return "paused";
+    case EngineState::retracting:
+      return "retracting";
+    case EngineState::completed:
+      return "completed";
+    case EngineState::aborted:
+      return "aborted";
+    case EngineState::interrupted:
+      return "interrupted";
+    case EngineState::failed:
+      return "failed";
+  }
+  return "unknown";
+}
+
+bool is_terminal(EngineState s) noexcept {
+  return s == EngineState::completed || s == EngineState::aborted || s == EngineState::interrupted ||
+         s == EngineState::failed;
+}
+
+namespace {
+
+void check_instruments(const Protocol& p, const InstrumentSet& inst) {
+  if (!inst.power_meter) {
+    throw EngineError("the protocol needs a power meter (T = power / baseline) but the lab has none");
+  }
+  if (p.kind == StepKind::vacuum && !inst.vacuum) {
+    throw EngineError("the protocol has vacuum steps but the lab has no vacuum controller");
+  }
+  if (p.kind != StepKind::vacuum && !inst.tester) {
+    throw EngineError("the protocol has pin steps but the lab has no mechanical tester");
+  }
+}
+
+/// Averages the power meter for the protocol's baseline time, before any run exists.
+double measure_baseline(devices::PowerMeter& pm, const Protocol& p, const ScaledClock& clock) {
+  RunningStats s;
+  const double period_s = 1.0 / p.rates.power_Hz;
+  const std::int64_t end = clock.now_ns() + static_cast<std::int64_t>(p.baseline.measure_s * 1e9);
+  std::int64_t next = clock.now_ns();
+  do {
+    const auto r = pm.measure();
+    if (r.over_range) throw EngineError("baseline measurement: the power meter reads over range");
+    s.add(r.power_W);
+    next += static_cast<std::int64_t>(period_s * 1e9);
+    clock.sleep_until(next);
+  } while (clock.now_ns() < end);
+  if (!(s.mean() > 0.0)) {
+    throw EngineError(fmt::format(
+        "measured glass-only baseline power is {:.4g} W over {} readings: it must be > 0 W (T = power / "
+        "baseline); check the light source, the sensor and its zero",
+        s.mean(), s.n()));
+  }
+  return s.mean();
+}
+
+std::int64_t register_instrument(db::Database& db, const std::string& kind, devices::Identity id) {
+  db::InstrumentRecord r;
+  r.kind = kind;
+  r.model = id.vendor.empty() ? id.model : id.vendor + " " + id.model;
+  r.serial = id.serial;
+  r.firmware = id.firmware;
+  return db.add_instrument(r);
+}
+
+}  // namespace
+
+Engine::Engine(db::Database& db, InstrumentSet instruments, EngineOptions options,
+               std::shared_ptr<StepPredictor> predictor, EngineObserver* observer)
+    : impl_(std::make_unique<Impl>(db, std::move(instruments), std::move(options), std::move(predictor),
+                                   observer)) {
+  if (!(impl_->opt.clock_factor > 0.0) || !std::isfinite(impl_->opt.clock_factor)) {
+    throw EngineError(fmt::format("clock factor must be > 0, got {}", impl_->opt.clock_factor));
+  }
+  for (auto& v : impl_->latest) v = std::nan("");
+}
+
+Engine::~Engine() {
+  if (impl_->sequencer.joinable()) {
+    if (!is_terminal(state())) abort("engine destroyed while the run was going");
+    wait();
+    impl_->sequencer.join();
+    impl_->prediction_worker.join();
+  }
+}
+
+std::int64_t Engine::start(const Protocol& protocol) {
+  auto& m = *impl_;
+  if (m.state != EngineState::idle) throw EngineError("this engine already ran; make a new one");
+  check_instruments(protocol, m.inst);
+  m.protocol = protocol;
+  m.baseline_W = protocol.baseline.power_W ? *protocol.baseline.power_W
+                                           : measure_baseline(*m.inst.power_meter, protocol, m.clock);
+
+  // Identify the instruments before the run exists: a dead link leaves no half-made run.
+  std::array<std::int64_t, kSlots> instrument{};
+  if (m.inst.tester) {
+    instrument[kDisplacement] = instrument[kLoad] =
+        register_instrument(m.db, "mechanical_tester", m.inst.tester->identity());
+  }
+  instrument[kPower] = register_instrument(m.db, "power_meter", m.inst.power_meter->identity());
+  if (m.inst.vacuum) instrument[kPressure] = register_instrument(m.db, "vacuum", m.inst.vacuum->identity());
+
+  db::SampleRecord sample;
+  sample.name = protocol.sample.tissue;
+  sample.tissue = protocol.sample.tissue;
+  sample.thickness_mm = protocol.sample.thickness_mm;
+  sample.notes = protocol.sample.notes;
+  db::NewRun nr;
+  nr.name = m.opt.run_name.empty() ? protocol.name : m.opt.run_name;
+  nr.sample_id = m.db.add_sample(sample);
+  nr.protocol_text = protocol.source_text;
+  nr.lab_config_text = m.opt.lab_config_text;
+  nr.software_version = std::string(version());
+  nr.operator_name = m.opt.operator_name;
+  nr.baseline_power_W = m.baseline_W;
+  const db::RunRecord run = m.db.create_run(nr);
+  m.run_id = run.id;
+  m.clock = ScaledClock(m.opt.clock_factor, run.monotonic_anchor_ns);
+  try {
+    const std::array<double, kSlots> rate{protocol.rates.tester_Hz, protocol.rates.tester_Hz,
+                                          protocol.rates.power_Hz, protocol.rates.pressure_Hz};
+    for (int s = 0; s < kSlots; ++s) {
+      if (instrument[s] == 0) continue;
+      db::Channel c;
+      c.run_id = m.run_id;
+      c.name = std::string(kChannelNames[s]);
+      c.unit = std::string(kChannelUnits[s]);
+      c.instrument_id = instrument[s];
+      c.nominal_rate_Hz = rate[s];
+      m.channel[s] = m.db.add_channel(c).id;
+    }
+    if (protocol.baseline.measure) {
+      m.db.add_event({0, m.run_id, m.clock.now_ns(), "baseline",
+                      fmt::format("measured glass-only baseline {:.6g} W over {} s", m.baseline_W,
+                                  protocol.baseline.measure_s),
+                      -1, ""});
+    }
+  } catch (...) {
+    m.db.set_run_status(m.run_id, db::RunStatus::interrupted);
+    throw;
+  }
+  m.first_step = 0;
+  m.start_threads();
+  return m.run_id;
+}
+
+std::int64_t Engine::resume(std::int64_t run_id) {
+  auto& m = *impl_;
+  if (m.state != EngineState::idle) throw EngineError("this engine already ran; make a new one");
+  const db::RunRecord before = m.db.run(run_id);
+  if (before.status != db::RunStatus::interrupted && before.status != db::RunStatus::aborted) {
+    throw EngineError(fmt::format("run {} is {}: only an interrupted or aborted run can be resumed", run_id,
+                                  db::to_string(before.status)));
+  }
+  m.protocol = parse_protocol(before.protocol_text, fmt::format("run {} protocol", run_id));
+  check_instruments(m.protocol, m.inst);
+  if (!(before.baseline_power_W > 0.0)) {
+    throw EngineError(
+        fmt::format("run {} has no glass-only baseline power stored; it cannot be resumed", run_id));
+  }
+  m.baseline_W = before.baseline_power_W;
+
+  const db::ResumePoint rp = m.db.resume_run(run_id);
+  m.run_id = run_id;
+  // Keep the run's timestamps increasing across the gap, also with a fast simulated clock.
+  m.clock = ScaledClock(m.opt.clock_factor, std::max({monotonic_ns(), rp.gap_to_t_ns, rp.gap_from_t_ns + 1}));
+  m.first_step = rp.first_incomplete_step;
+
+  const db::Reader reader(m.db.path());
+  const std::array<bool, kSlots> present{bool(m.inst.tester), bool(m.inst.tester), true, bool(m.inst.vacuum)};
+  for (int s = 0; s < kSlots; ++s) {
+    if (!present[s]) continue;
+    if (auto c = reader.channel(run_id, std::string(kChannelNames[s]))) {
+      m.channel[s] = c->id;
+    } else {
+      db::Channel c2;
+      c2.run_id = run_id;
+      c2.name = std::string(kChannelNames[s]);
+      c2.unit = std::string(kChannelUnits[s]);
+      m.channel[s] = m.db.add_channel(c2).id;
+    }
+  }
+  if (m.observer) m.observer->on_event(rp.gap_event);
+  m.start_threads();
+  return run_id;
+}
+
+void Engine::Impl::start_threads() {
+  writer = std::make_unique<db::Writer>(db, opt.writer);
+  load_window.set_keep(2.0 * protocol.settle.window_s + 1.0);
+  pressure_window.set_keep(2.0 * protocol.settle.window_s + 1.0);
+  segment_start_ns = clock.now_ns();
+  current_step = first_step;
+  set_state(EngineState::starting,
+            fmt::format("run {} from step {} of {}", run_id, first_step + 1, protocol.steps.size()));
+  if (inst.tester) pollers.emplace_back([this] { run_tester_poller(); });
+  pollers.emplace_back([this] { run_power_poller(); });
+  if (inst.vacuum) pollers.emplace_back([this] { run_vacuum_poller(); });
+  prediction_worker = std::thread([this] { run_predictions(); });
+  sequencer = std::thread([this] { run_sequence(); });
+}
+
+void Engine::Impl::set_state(EngineState s, const std::string& why) {
+  {
+    std::lock_guard lock(mu);
+    if (state == s) return;
+    state = s;
+  }
+  cv.notify_all();
+  emit_event("state", fmt::format("{}{}{}", to_string(s), why.empty() ? "" : ": ", why), current_step);
+  if (observer) observer->on_state(s, why);
+}
+
+void Engine::Impl::emit_event(const std::string& kind, const std::string& message, int step,
+                              const std::string& data_json) {
+  db::EventRecord e{0, run_id, clock.now_ns(), kind, message, step, data_json};
+  logger("acquisition")->info("run {}: {}: {}", run_id, kind, message);
+  if (!writer || !writer->enqueue(e)) db.add_event(e);
+  if (observer) observer->on_event(e);
+}
+
+Progress Engine::Impl::make_progress() const {
+  Progress p;
+  {
+    std::lock_guard lock(mu);
+    p.state = state;
+    p.step_index = current_step;
+  }
+  p.step_count = static_cast<int>(protocol.steps.size());
+  p.elapsed_s = static_cast<double>(clock.now_ns() - segment_start_ns) * 1e-9;
+  // Nominal time of the steps left, scaled by how the finished ones compared to nominal.
+  const int n = p.step_count;
+  const int done = std::max(0, p.step_index - first_step);
+  const double per_step = n > 0 ? protocol.nominal_duration_s() / n : 0.0;
+  const double observed = done > 0 ? p.elapsed_s / done : per_step;
+  p.eta_s = std::max(0.0, (n - p.step_index) * std::max(per_step, observed) - (done > 0 ? 0.0 : p.elapsed_s));
+  p.displacement_mm = latest[kDisplacement];
+  p.load_N = latest[kLoad];
+  p.power_W = latest[kPower];
+  p.pressure_kPa = latest[kPressure];
+  p.transmission = p.power_W / baseline_W;
+  return p;
+}
+
+void Engine::pause() {
+  {
+    std::lock_guard lock(impl_->mu);
+    if (is_terminal(impl_->state) || impl_->state == EngineState::idle) return;
+    impl_->pause_requested = true;
+    impl_->pause_reason = "operator pause";
+  }
+  impl_->cv.notify_all();
+}
+
+void Engine::resume() {
+  {
+    std::lock_guard lock(impl_->mu);
+    impl_->resume_requested = true;
+  }
+  impl_->cv.notify_all();
+}
+
+void Engine::abort(const std::string& reason) {
+  {
+    std::lock_guard lock(impl_->mu);
+    if (impl_->abort_requested) return;
+    impl_->abort_requested = true;
+    impl_->abort_reason = reason;
+  }
+  impl_->cv.notify_all();
+}
+
+EngineState Engine::wait() {
+  std::unique_lock lock(impl_->mu);
+  if (impl_->state == EngineState::idle) return impl_->state;
+  impl_->cv.wait(lock, [&] { return impl_->finished; });
+  return impl_->state;
+}
+
+bool Engine::wait_for(std::chrono::milliseconds timeout) {
+  std::unique_lock lock(impl_->mu);
+  if (impl_->state == EngineState::idle) return true;
+  return impl_->cv.wait_for(lock, timeout, [&] { return impl_->finished; });
+}
+
+EngineState Engine::state() const {
+  std::lock_guard lock(impl_->mu);
+  return impl_->state;
+}
+
+std::int64_t Engine::run_id() const {
+  return impl_->run_id;
+}
+
+Progress Engine::progress() const {
+  return impl_->make_progress();
+}
+
+EngineStats Engine::stats() const {
+  EngineStats s;
+  s.samples_enqueued = impl_->enqueued;
+  s.samples_dropped = impl_->dropped;
+  s.poll_overruns = impl_->overruns;
+  if (impl_->writer) s.writer = impl_->writer->stats();
+  return s;
+}
+
+std::string Engine::error() const {
+  std::lock_guard lock(impl_->mu);
+  return impl_->error;
+}
+
+}  // namespace tocd::acquisition

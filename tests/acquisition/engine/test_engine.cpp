@@ -1,0 +1,344 @@
+#include <chrono>
+#include <filesystem>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "fake_rig.hpp"
+#include "protocol_text.hpp"
+#include "tocd/acquisition/engine.hpp"
+#include "tocd/db/database.hpp"
+#include "tocd/db/reader.hpp"
+
+using namespace tocd::acquisition;
+using namespace tocd::acquisition::testing;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kFactor = 20.0;  // simulated seconds per real second
+
+class EngineTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           fmt::format("tocd_acq_{}_{}", ::getpid(),
+                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    path_ = dir_ / "runs.db";
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  static EngineOptions fast() {
+    EngineOptions o;
+    o.clock_factor = kFactor;
+    return o;
+  }
+
+  /// Polls `pred` every 2 ms for up to `seconds` of real time.
+  template <class Pred>
+  static bool eventually(Pred pred, double seconds = 20.0) {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    while (std::chrono::steady_clock::now() < end) {
+      if (pred()) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    return pred();
+  }
+
+  static bool has_event(const tocd::db::Reader& r, std::int64_t run, const std::string& kind,
+                        const std::string& text) {
+    for (const auto& e : r.events(run))
+      if (e.kind == kind && e.message.find(text) != std::string::npos) return true;
+    return false;
+  }
+
+  fs::path dir_, path_;
+};
+
+/// Records observer callbacks (called from engine threads).
+struct Recorder : EngineObserver {
+  std::mutex mu;
+  std::vector<EngineState> states;
+  std::vector<StepResult> steps;
+  std::atomic<int> live{0}, predictions{0}, progress{0};
+  void on_samples(std::span<const LiveSample> s) override { live += static_cast<int>(s.size()); }
+  void on_step_recorded(const StepResult& r) override {
+    std::lock_guard lock(mu);
+    steps.push_back(r);
+  }
+  void on_prediction(int, const PredictedStep&) override { ++predictions; }
+  void on_state(EngineState s, const std::string&) override {
+    std::lock_guard lock(mu);
+    states.push_back(s);
+  }
+  void on_progress(const Progress&) override { ++progress; }
+  int step_count() {
+    std::lock_guard lock(mu);
+    return static_cast<int>(steps.size());
+  }
+};
+
+}  // namespace
+
+TEST_F(EngineTest, RecordsStepsWithTransmissionLoadAndPredictions) {
+  auto world = std::make_shared<FakeWorld>(kFactor);
+  world->fail_tester_reads = 3;  // a short fault streak: logged, retried, recovered
+  auto predictor = std::make_shared<FakePredictor>(1.02);
+  Recorder obs;
+  tocd::db::Database db(path_);
+  const Protocol p = parse_protocol(pin_protocol("0.25, 0.5, 0.75"), "engine.toml");
+  Engine engine(db, make_fake_instruments(world), fast(), predictor, &obs);
+  const auto run = engine.start(p);
+  EXPECT_EQ(engine.wait(), EngineState::completed) << engine.error();
+
+  const tocd::db::Reader r(path_);
+  EXPECT_EQ(r.run(run).status, tocd::db::RunStatus::completed);
+  const auto steps = r.steps(run);
+  ASSERT_EQ(steps.size(), 3u);
+  const auto load_ch = r.channel(run, "load");
+  const auto power_ch = r.channel(run, "power");
+  ASSERT_TRUE(load_ch && power_ch);
+  for (const auto& s : steps) {
+    const double d = p.steps[s.index].displacement_mm;
+    EXPECT_TRUE(s.completed);
+    EXPECT_DOUBLE_EQ(s.target_displacement_mm, d);
+    EXPECT_DOUBLE_EQ(s.nominal_strain, d / 2.0);
+    // Power noise is 0.01 % per reading: the mean of >= 10 readings is within 1e-4 relative.
+    EXPECT_NEAR(s.measured_transmission, world->transmission(d, FakeWorld::kAtmosphere_kPa), 1e-4);
+    const auto* load = s.stats_for(load_ch->id);
+    ASSERT_NE(load, nullptr);
+    // Settled: the relaxation overshoot (20 %, tau 0.3 s) has decayed below the 0.05 N/s rate
+    // criterion, i.e. to < 0.05 * 0.3 / load of the load; 2 % covers it at these loads.
+    EXPECT_NEAR(load->mean, world->equilibrium_load_N(d), 0.02 * world->equilibrium_load_N(d) + 0.016);
+    EXPECT_GE(s.stats_for(power_ch->id)->n, 10);
+    EXPECT_LT(s.settled_t_ns, s.recorded_from_t_ns);
+    EXPECT_LT(s.recorded_from_t_ns, s.recorded_to_t_ns);
+  }
+  // Predictions land next to their steps.
+  const auto rows = r.compare(run);
+  ASSERT_EQ(rows.size(), 3u);
+  for (const auto& row : rows) {
+    ASSERT_TRUE(row.prediction);
+    EXPECT_NEAR(row.prediction->T, 1.02 * row.step.measured_transmission, 1e-12);
+    EXPECT_NEAR(row.relative_difference, 0.02, 1e-9);
+  }
+  EXPECT_EQ(obs.predictions, 3);
+  EXPECT_EQ(obs.step_count(), 3);
+  EXPECT_GT(obs.live, 100);
+  EXPECT_GT(obs.progress, 0);
+  EXPECT_TRUE(has_event(r, run, "fault", "mechanical tester"));
+  EXPECT_TRUE(has_event(r, run, "retry", "recovered after 3 failed reads"));
+  EXPECT_NEAR(world->position_mm(), 0.0, 1e-9);  // retracted home at the end
+  // Every sample the engine enqueued is in the file.
+  std::int64_t stored = 0;
+  for (const auto& c : r.channels(run)) stored += r.sample_count(c.id);
+  EXPECT_EQ(static_cast<std::uint64_t>(stored), engine.stats().samples_enqueued);
+  EXPECT_EQ(engine.stats().samples_dropped, 0u);
+}
+
+TEST_F(EngineTest, PauseResumeThenAbortRetractsAndKeepsData) {
+  auto world = std::make_shared<FakeWorld>(kFactor);
+  Recorder obs;
+  tocd::db::Database db(path_);
+  Engine engine(db, make_fake_instruments(world), fast(), nullptr, &obs);
+  const auto run = engine.start(parse_protocol(pin_protocol("0.25, 0.5, 0.75, 1.0"), "engine.toml"));
+  ASSERT_TRUE(eventually([&] { return obs.step_count() >= 1 && engine.state() == EngineState::moving; }));
+  engine.pause();
+  ASSERT_TRUE(eventually([&] { return engine.state() == EngineState::paused; }));
+  const int stops = world->stop_calls;
+  EXPECT_GE(stops, 1);
+  const double held = world->position_mm();
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));  // 2 s simulated
+  EXPECT_NEAR(world->position_mm(), held, 1e-12);               // the pin stays put while paused
+  EXPECT_EQ(obs.step_count(), 1);
+  engine.resume();
+  ASSERT_TRUE(eventually([&] { return obs.step_count() >= 2; }));
+  engine.abort("test abort");
+  EXPECT_EQ(engine.wait(), EngineState::aborted);
+
+  const tocd::db::Reader r(path_);
+  EXPECT_EQ(r.run(run).status, tocd::db::RunStatus::aborted);
+  EXPECT_GE(r.steps(run).size(), 2u);
+  EXPECT_LT(r.steps(run).size(), 4u);
+  EXPECT_TRUE(has_event(r, run, "state", "paused: operator pause"));
+  EXPECT_TRUE(has_event(r, run, "operator", "resumed; redoing step 2"));
+  EXPECT_TRUE(has_event(r, run, "operator", "abort: test abort"));
+  EXPECT_NEAR(world->position_mm(), 0.0, 1e-9);  // abort retracts the pin
+  EXPECT_GT(r.sample_count(r.channel(run, "load")->id), 100);
+  EXPECT_EQ(engine.stats().samples_dropped, 0u);
+}
+
+TEST_F(EngineTest, LoadLimitTripStopsMotionRecordsWhyAndLeavesResumableRun) {
+  auto world = std::make_shared<FakeWorld>(kFactor);
+  tocd::db::Database db(path_);
+  // Step 3 (1.5 mm) needs 4 * 1.5^1.5 = 7.3 N: the 5 N limit trips on the way down, at
+  // d = (5/4)^(2/3) = 1.16 mm.
+  Engine engine(db, make_fake_instruments(world), fast());
+  const auto run = engine.start(parse_protocol(pin_protocol("0.25, 0.5, 1.5", 5.0), "engine.toml"));
+  EXPECT_EQ(engine.wait(), EngineState::interrupted);
+  EXPECT_NE(engine.error().find("above the 5.000 N limit"), std::string::npos) << engine.error();
+  EXPECT_GE(world->stop_calls, 1);
+
+  const tocd::db::Reader r(path_);
+  EXPECT_EQ(r.run(run).status, tocd::db::RunStatus::interrupted);
+  EXPECT_TRUE(has_event(r, run, "interlock", "above the 5.000 N limit"));
+  EXPECT_EQ(r.first_incomplete_step(run), 2);
+  // Motion stopped at the first reading over the limit: at 0.5 mm/s and 200 Hz the pin goes
+  // 2.5 um per reading, i.e. < 0.05 N at this stiffness. The largest load recorded is just over it.
+  double max_load = 0;
+  for (const auto& s : r.samples(r.channel(run, "load")->id)) max_load = std::max(max_load, s.value);
+  EXPECT_GT(max_load, 5.0);
+  EXPECT_LT(max_load, 5.05);
+  EXPECT_NEAR(world->position_mm(), 0.0, 1e-9);  // then backed off home
+}
+
+TEST_F(EngineTest, ResumeContinuesTheSameRunAfterAGap) {
+  auto world = std::make_shared<FakeWorld>(kFactor);
+  tocd::db::Database db(path_);
+  const auto protocol = parse_protocol(pin_protocol("0.25, 0.5, 0.75"), "engine.toml");
+  std::int64_t run = 0;
+  {
+    Recorder obs;
+    Engine engine(db, make_fake_instruments(world), fast(), nullptr, &obs);
+    run = engine.start(protocol);
+    ASSERT_TRUE(eventually([&] { return obs.step_count() >= 1 && engine.state() == EngineState::settling; }));
+    world->extra_load_N = 100.0;  // a load spike trips the interlock during step 2
+    EXPECT_EQ(engine.wait(), EngineState::interrupted);
+  }
+  world->extra_load_N = 0.0;
+  {
+    const tocd::db::Reader r(path_);
+    EXPECT_EQ(r.run(run).status, tocd::db::RunStatus::interrupted);
+    EXPECT_EQ(r.first_incomplete_step(run), 1);
+  }
+  auto predictor = std::make_shared<FakePredictor>();
+  Engine engine(db, make_fake_instruments(world), fast(), predictor);
+  EXPECT_EQ(engine.resume(run), run);
+  EXPECT_EQ(engine.wait(), EngineState::completed) << engine.error();
+
+  const tocd::db::Reader r(path_);
+  EXPECT_EQ(r.runs().size(), 1u);
+  EXPECT_EQ(r.run(run).status, tocd::db::RunStatus::completed);
+  const auto steps = r.steps(run);
+  ASSERT_EQ(steps.size(), 3u);
+  for (const auto& s : steps) EXPECT_TRUE(s.completed);
+  EXPECT_EQ(predictor->calls, 2);  // only the steps recorded after the resume
+  bool gap = false;
+  for (const auto& e : r.events(run)) gap = gap || e.kind == "gap";
+  EXPECT_TRUE(gap);
+  // Time keeps increasing across the gap: the resumed steps come after the first one.
+  EXPECT_GT(steps[1].started_t_ns, steps[0].recorded_to_t_ns);
+  EXPECT_GE(r.anchors(run).size(), 2u);
+  // A completed run cannot be resumed.
+  Engine again(db, make_fake_instruments(world), fast());
+  EXPECT_THROW(again.resume(run), EngineError);
+}
+
+TEST_F(EngineTest, VacuumSealLossPausesTheRun) {
+  auto world = std::make_shared<FakeWorld>(kFactor);
+  Recorder obs;
+  tocd::db::Database db(path_);
+  Engine engine(db, make_fake_instruments(world, false, true), fast(), nullptr, &obs);
+  const auto run = engine.start(parse_protocol(vacuum_protocol("80, 60"), "vac.toml"));
+  ASSERT_TRUE(eventually([&] { return obs.step_count() >= 1 && engine.state() == EngineState::settling; }));
+  world->seal_lost = true;
+  ASSERT_TRUE(eventually([&] { return engine.state() == EngineState::paused; }));
+  EXPECT_EQ(obs.step_count(), 1);
+  world->seal_lost = false;  // the operator reseats the sample
+  engine.resume();
+  EXPECT_EQ(engine.wait(), EngineState::completed) << engine.error();
+
+  const tocd::db::Reader r(path_);
+  EXPECT_TRUE(has_event(r, run, "interlock", "vacuum seal loss"));
+  EXPECT_TRUE(has_event(r, run, "state", "paused: vacuum seal loss"));
+  const auto steps = r.steps(run);
+  ASSERT_EQ(steps.size(), 2u);
+  const auto pressure = r.channel(run, "pressure");
+  ASSERT_TRUE(pressure);
+  EXPECT_NEAR(steps[1].stats_for(pressure->id)->mean, 60.0, 0.5);
+  EXPECT_NEAR(steps[1].measured_transmission, world->transmission(0.0, 60.0), 2e-3);
+}
+
+TEST_F(EngineTest, PowerOverRangePauses) {
+  auto world = std::make_shared<FakeWorld>(kFactor);
+  Recorder obs;
+  tocd::db::Database db(path_);
+  Engine engine(db, make_fake_instruments(world), fast(), nullptr, &obs);
+  const auto run = engine.start(parse_protocol(pin_protocol("0.25, 0.5"), "engine.toml"));
+  ASSERT_TRUE(eventually([&] { return engine.state() == EngineState::settling; }));
+  world->power_over_range = true;
+  ASSERT_TRUE(eventually([&] { return engine.state() == EngineState::paused; }));
+  world->power_over_range = false;
+  engine.abort();
+  EXPECT_EQ(engine.wait(), EngineState::aborted);
+  EXPECT_TRUE(has_event(tocd::db::Reader(path_), run, "interlock", "power meter over range"));
+}
+
+TEST_F(EngineTest, PredictionsNeverHoldUpAcquisition) {
+  auto world = std::make_shared<FakeWorld>(kFactor);
+  auto predictor = std::make_shared<FakePredictor>();
+  predictor->close_gate();  // the simulator is "busy" for the whole acquisition
+  Recorder obs;
+  tocd::db::Database db(path_);
+  Engine engine(db, make_fake_instruments(world), fast(), predictor, &obs);
+  const auto run = engine.start(parse_protocol(pin_protocol("0.25, 0.5, 0.75"), "engine.toml"));
+  ASSERT_TRUE(eventually([&] {
+    std::lock_guard lock(obs.mu);
+    return !obs.states.empty() && obs.states.back() == EngineState::completed;
+  }));
+  EXPECT_FALSE(engine.wait_for(std::chrono::milliseconds(50)));  // predictions still pending
+  {
+    const tocd::db::Reader r(path_);
+    EXPECT_EQ(r.steps(run).size(), 3u);
+    EXPECT_EQ(r.predictions(run).size(), 0u);
+    EXPECT_EQ(r.run(run).status, tocd::db::RunStatus::completed);
+  }
+  predictor->open_gate();
+  EXPECT_EQ(engine.wait(), EngineState::completed);
+  const tocd::db::Reader r(path_);
+  const auto preds = r.predictions(run);
+  ASSERT_EQ(preds.size(), 3u);
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(preds[i].step_index, i);
+}
+
+TEST_F(EngineTest, MeasuredBaselineOfZeroIsRefusedBeforeAnyRun) {
+  auto world = std::make_shared<FakeWorld>(kFactor);
+  world->source_W = 0.0;
+  tocd::db::Database db(path_);
+  auto text = pin_protocol("0.25");
+  text.replace(text.find("power_W = 1.0e-3"), 16, "measure = true\nmeasure_s = 0.5");
+  Engine engine(db, make_fake_instruments(world), fast());
+  try {
+    engine.start(parse_protocol(text, "engine.toml"));
+    FAIL() << "no error";
+  } catch (const EngineError& e) {
+    EXPECT_NE(std::string(e.what()).find("baseline power is 0 W"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(tocd::db::Reader(path_).runs().empty());
+}
+
+TEST_F(EngineTest, MeasuredBaselineIsStoredWithTheRun) {
+  auto world = std::make_shared<FakeWorld>(kFactor);
+  tocd::db::Database db(path_);
+  auto text = pin_protocol("0.25");
+  text.replace(text.find("power_W = 1.0e-3"), 16, "measure = true\nmeasure_s = 0.5");
+  Engine engine(db, make_fake_instruments(world), fast());
+  const auto run = engine.start(parse_protocol(text, "engine.toml"));
+  EXPECT_EQ(engine.wait(), EngineState::completed);
+  const tocd::db::Reader r(path_);
+  // Pin at home: the fake's glass-only power is source x T(0) = 0.2 mW.
+  EXPECT_NEAR(r.run(run).baseline_power_W, 1e-3 * world->transmission(0.0, FakeWorld::kAtmosphere_kPa), 1e-7);
+  EXPECT_TRUE(has_event(r, run, "baseline", "measured glass-only baseline"));
+}
+
+TEST_F(EngineTest, MissingInstrumentIsAClearError) {
+  auto world = std::make_shared<FakeWorld>(kFactor);
+  tocd::db::Database db(path_);
+  Engine pin_without_tester(db, make_fake_instruments(world, false, false), fast());
+  EXPECT_THROW(pin_without_tester.start(parse_protocol(pin_protocol("0.25"), "e.toml")), EngineError);
+  Engine vacuum_without_pump(db, make_fake_instruments(world, true, false), fast());
+  EXPECT_THROW(vacuum_without_pump.start(parse_protocol(vacuum_protocol("80"), "v.toml")), EngineError);
+  EXPECT_TRUE(tocd::db::Reader(path_).runs().empty());
+}

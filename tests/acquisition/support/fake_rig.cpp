@@ -1,0 +1,211 @@
+#include "fake_rig.hpp"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "tocd/core/clock.hpp"
+
+namespace tocd::acquisition::testing {
+
+FakeWorld::FakeWorld(double clock_factor, double contact, double thickness)
+    : contact_mm(contact), thickness_mm(thickness), clock_factor_(clock_factor), start_ns_(monotonic_ns()) {}
+
+double FakeWorld::now_s() const {
+  return static_cast<double>(monotonic_ns() - start_ns_) * 1e-9 * clock_factor_;
+}
+
+double FakeWorld::equilibrium_load_N(double d) const {
+  return d > 0 ? stiffness_N_per_mm15 * std::pow(d, 1.5) : 0.0;
+}
+
+double FakeWorld::transmission(double d, double p) const {
+  // Compression and vacuum both clear the tissue; any monotonic law does for the engine.
+  return 0.2 + 0.5 * std::max(0.0, d) / thickness_mm + 0.2 * (kAtmosphere_kPa - p) / kAtmosphere_kPa;
+}
+
+double FakeWorld::position_mm_locked(double t) const {
+  if (t >= arrive_t) return target_mm;
+  const double dir = target_mm > pos0_mm ? 1.0 : -1.0;
+  return pos0_mm + dir * speed * (t - move_t0);
+}
+
+double FakeWorld::position_mm() const {
+  std::lock_guard lock(mu);
+  return position_mm_locked(now_s());
+}
+
+double FakeWorld::load_N() const {
+  std::lock_guard lock(mu);
+  const double t = now_s();
+  const double d = position_mm_locked(t) - contact_mm;
+  double load = equilibrium_load_N(d);
+  if (t >= arrive_t) load *= 1.0 + relax_fraction * std::exp(-(t - arrive_t) / relax_tau_s);
+  return load + extra_load_N;
+}
+
+double FakeWorld::pressure_now_kPa() {
+  std::lock_guard lock(mu);
+  const double t = now_s();
+  const double goal = seal_lost || !pump ? kAtmosphere_kPa : setpoint_kPa;
+  pressure_kPa += (goal - pressure_kPa) * (1.0 - std::exp(-(t - pressure_t) / vacuum_tau_s));
+  pressure_t = t;
+  return pressure_kPa;
+}
+
+namespace {
+
+class FakeTester : public devices::MechanicalTester {
+ public:
+  explicit FakeTester(std::shared_ptr<FakeWorld> w) : w_(std::move(w)) {}
+  devices::Identity identity() override { return {"Fake", "Tester", "T-1", "1.0"}; }
+  devices::TesterReading read() override {
+    ++w_->reads;
+    if (w_->fail_tester_reads > 0) {
+      --w_->fail_tester_reads;
+      throw devices::TimeoutError("fake tester", "read position/load", "timed out after 3 retries");
+    }
+    devices::TesterReading r;
+    const double t = w_->now_s();
+    {
+      std::lock_guard lock(w_->mu);
+      r.position_mm = w_->position_mm_locked(t);
+      r.status.moving = t < w_->arrive_t;
+      r.status.at_target = !r.status.moving;
+    }
+    r.load_N = w_->load_N();
+    r.status.ready = true;
+    return r;
+  }
+  void move_to(double position_mm, double v) override {
+    ++w_->move_calls;
+    std::lock_guard lock(w_->mu);
+    const double t = w_->now_s();
+    w_->pos0_mm = w_->position_mm_locked(t);
+    w_->target_mm = position_mm;
+    w_->speed = v;
+    w_->move_t0 = t;
+    w_->arrive_t = t + std::abs(position_mm - w_->pos0_mm) / v;
+  }
+  void stop() override {
+    ++w_->stop_calls;
+    std::lock_guard lock(w_->mu);
+    const double t = w_->now_s();
+    w_->pos0_mm = w_->target_mm = w_->position_mm_locked(t);
+    w_->arrive_t = w_->move_t0 = t;
+  }
+  void home() override { move_to(0.0, 5.0); }
+  void tare_load() override {}
+  void set_limits(double, double) override {}
+  void clear_fault() override {}
+
+ private:
+  std::shared_ptr<FakeWorld> w_;
+};
+
+class FakePowerMeter : public devices::PowerMeter {
+ public:
+  explicit FakePowerMeter(std::shared_ptr<FakeWorld> w) : w_(std::move(w)) {}
+  devices::Identity identity() override { return {"Fake", "PowerMeter", "P-1", "1.0"}; }
+  std::string sensor_identity() override { return "fake photodiode"; }
+  void set_wavelength_nm(double) override {}
+  void set_auto_range(bool) override {}
+  void set_averaging(int) override {}
+  void zero() override {}
+  devices::PowerReading measure() override {
+    devices::PowerReading r;
+    double p;
+    {
+      std::lock_guard lock(w_->mu);
+      p = w_->pressure_kPa;
+    }
+    const double T = w_->transmission(w_->position_mm() - w_->contact_mm, p);
+    r.power_W = w_->source_W * T * (1.0 + 1e-4 * noise_(rng_));  // 0.01 % read noise
+    r.over_range = w_->power_over_range;
+    return r;
+  }
+
+ private:
+  std::shared_ptr<FakeWorld> w_;
+  std::mt19937 rng_{7};
+  std::normal_distribution<double> noise_;
+};
+
+class FakeVacuum : public devices::VacuumController {
+ public:
+  explicit FakeVacuum(std::shared_ptr<FakeWorld> w) : w_(std::move(w)) {}
+  devices::Identity identity() override { return {"Fake", "Vacuum", "V-1", "1.0"}; }
+  devices::VacuumReading read() override {
+    devices::VacuumReading r;
+    r.pressure_kPa = w_->pressure_now_kPa();
+    std::lock_guard lock(w_->mu);
+    r.setpoint_kPa = w_->setpoint_kPa;
+    r.pump_running = w_->pump;
+    return r;
+  }
+  void set_setpoint_kPa(double kPa) override {
+    w_->pressure_now_kPa();
+    std::lock_guard lock(w_->mu);
+    w_->setpoint_kPa = kPa;
+  }
+  void run_pump(bool on) override {
+    w_->pressure_now_kPa();
+    std::lock_guard lock(w_->mu);
+    w_->pump = on;
+  }
+  void set_vent(bool) override {}
+
+ private:
+  std::shared_ptr<FakeWorld> w_;
+};
+
+}  // namespace
+
+InstrumentSet make_fake_instruments(const std::shared_ptr<FakeWorld>& world, bool with_tester,
+                                    bool with_vacuum) {
+  InstrumentSet s;
+  if (with_tester) s.tester = std::make_unique<FakeTester>(world);
+  s.power_meter = std::make_unique<FakePowerMeter>(world);
+  if (with_vacuum) s.vacuum = std::make_unique<FakeVacuum>(world);
+  return s;
+}
+
+FakePredictor::~FakePredictor() {
+  open_gate();
+  for (auto& t : threads_) t.join();
+}
+
+std::future<PredictedStep> FakePredictor::predict(const RecordedStep& step) {
+  ++calls;
+  auto promise = std::make_shared<std::promise<PredictedStep>>();
+  auto future = promise->get_future();
+  std::lock_guard lock(mu_);
+  threads_.emplace_back([this, promise, step] {
+    {
+      std::unique_lock gate(mu_);
+      cv_.wait(gate, [&] { return gate_open_; });
+    }
+    PredictedStep p;
+    p.T = step.measured_T * factor_;
+    p.T_stderr = 0.001;
+    p.config_json = fmt::format(R"({{"fake": true, "displacement_mm": {}}})", step.displacement_mm);
+    p.seconds = 0.01;
+    promise->set_value(p);
+  });
+  return future;
+}
+
+void FakePredictor::close_gate() {
+  std::lock_guard lock(mu_);
+  gate_open_ = false;
+}
+
+void FakePredictor::open_gate() {
+  {
+    std::lock_guard lock(mu_);
+    gate_open_ = true;
+  }
+  cv_.notify_all();
+}
+
+}  // namespace tocd::acquisition::testing

@@ -1,0 +1,84 @@
+#pragma once
+
+// In-process fakes of the rig's instruments for the run engine's tests: a tester that moves
+// at finite speed with a load law that relaxes after each move, a power meter reading
+// source power x transmission(displacement or vacuum), a vacuum controller that pumps down
+// with a time constant. They share one FakeWorld (simulated clock + fault hooks).
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <random>
+
+#include "tocd/acquisition/engine.hpp"
+#include "tocd/devices/instruments.hpp"
+
+namespace tocd::acquisition::testing {
+
+struct FakeWorld {
+  explicit FakeWorld(double clock_factor, double contact_mm = 1.0, double thickness_mm = 2.0);
+
+  double now_s() const;  ///< simulated seconds since construction
+
+  // Physics (simulated units).
+  double contact_mm;
+  double thickness_mm;
+  double stiffness_N_per_mm15 = 4.0;  ///< equilibrium load = k d^1.5
+  double relax_fraction = 0.2;        ///< overshoot right after a move, relaxing with relax_tau_s
+  double relax_tau_s = 0.3;
+  double source_W = 1e-3;
+  double vacuum_tau_s = 0.3;
+  static constexpr double kAtmosphere_kPa = 101.3;
+
+  double equilibrium_load_N(double d_mm) const;
+  double transmission(double d_mm, double pressure_kPa) const;
+
+  // Fault hooks (set from the test thread at any time).
+  std::atomic<double> extra_load_N{0.0};
+  std::atomic<int> fail_tester_reads{0};
+  std::atomic<bool> power_over_range{false};
+  std::atomic<bool> seal_lost{false};
+
+  // Counters.
+  std::atomic<int> stop_calls{0}, move_calls{0}, reads{0};
+
+  // State (guarded by mu).
+  mutable std::mutex mu;
+  double pos0_mm = 0, target_mm = 0, speed = 1, move_t0 = 0, arrive_t = 0;
+  double pressure_kPa = kAtmosphere_kPa, setpoint_kPa = kAtmosphere_kPa, pressure_t = 0;
+  bool pump = false;
+
+  double position_mm_locked(double t) const;
+  double position_mm() const;
+  double load_N() const;
+  double pressure_now_kPa();
+
+ private:
+  double clock_factor_;
+  std::int64_t start_ns_;
+};
+
+/// Instruments over a shared world; `with_vacuum` adds the vacuum controller.
+InstrumentSet make_fake_instruments(const std::shared_ptr<FakeWorld>& world, bool with_tester = true,
+                                    bool with_vacuum = false);
+
+/// A predictor that answers T = measured_T * factor on a thread of its own, after an optional
+/// gate opens (so tests can hold predictions back while acquisition goes on).
+class FakePredictor : public StepPredictor {
+ public:
+  explicit FakePredictor(double factor = 1.02) : factor_(factor) {}
+  ~FakePredictor() override;
+  std::future<PredictedStep> predict(const RecordedStep& step) override;
+  void close_gate();
+  void open_gate();
+  std::atomic<int> calls{0};
+
+ private:
+  double factor_;
+  std::mutex mu_;
+  std::condition_variable cv_;
+  bool gate_open_ = true;
+  std::vector<std::thread> threads_;
+};
+
+}  // namespace tocd::acquisition::testing
