@@ -1,0 +1,64 @@
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "tocd/devices/lab.hpp"
+#include "tocd/mocks/modbus_faults.hpp"
+#include "tocd/mocks/tissue.hpp"
+
+namespace tocd::mocks {
+
+class SimClock;
+class TesterTwin;
+class PowerMeterTwin;
+class VacuumTwin;
+
+struct SimulatedLabOptions {
+  std::shared_ptr<TissueModel> tissue;  ///< default: make_analytic_tissue(2.5)
+  double clock_factor = 1.0;            ///< simulated seconds per real second
+  double source_power_W = 1e-3;
+  std::uint64_t seed = 1;
+  double contact_position_mm = 1.0;
+  bool with_vacuum = true;
+  bool with_power_meter = true;
+  int tester_port = 0;       ///< 0 = any free port
+  int power_meter_port = 0;  ///< 0 = any free port
+};
+
+/// Every simulated instrument of the pin-compression rig, each on its real transport: the tester
+/// (Modbus TCP on loopback), the power meter (SCPI over TCP) and the vacuum
+/// controller (Modbus RTU on a pseudo-terminal). They share one clock and one tissue: the power
+/// meter reads source power x transmission at the tester's current displacement.
+class SimulatedLab {
+ public:
+  explicit SimulatedLab(SimulatedLabOptions opt = {});
+  ~SimulatedLab();  ///< stops all servers
+  SimulatedLab(const SimulatedLab&) = delete;
+  SimulatedLab& operator=(const SimulatedLab&) = delete;
+
+  /// A lab config that points at the twins (short timeouts suited to loopback).
+  tocd::devices::LabConfig config() const;
+
+  const SimClock& clock() const;
+  TesterTwin& tester();
+  VacuumTwin* vacuum();  ///< null without vacuum
+  bool has_power_meter() const;
+  PowerMeterTwin* power_meter();  ///< null without power meter (all its fault hooks are there)
+
+  // Fault hooks.
+  void inject_tester_fault(const ModbusFault& fault);
+  void inject_vacuum_fault(const ModbusFault& fault);
+  void drop_tester_connections();
+  void trip_load_limit();
+  void inject_seal_loss(bool lost = true);
+  /// Power meter faults; no-ops returning false while the lab has no power-meter twin.
+  bool inject_power_meter_error(int code, const std::string& message);
+  bool force_power_over_range(bool on);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace tocd::mocks

@@ -1,0 +1,62 @@
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "tocd/devices/modbus_options.hpp"
+#include "tocd/mocks/modbus_faults.hpp"
+#include "tocd/mocks/tissue.hpp"
+
+namespace tocd::mocks {
+
+class SimClock;
+
+struct TesterTwinOptions {
+  std::shared_ptr<TissueModel> tissue;    ///< default: make_analytic_tissue(2.5)
+  std::shared_ptr<const SimClock> clock;  ///< default: a real-time clock
+  std::string host = "127.0.0.1";
+  int port = 0;  ///< 0 = any free port (see TesterTwin::port())
+  int slave_id = 1;
+  double contact_position_mm = 1.0;  ///< pin touches the sample surface here
+  double max_travel_mm = 10.0;
+  double max_load_N = 50.0;
+  double load_noise_N = 0.002;       ///< load-cell noise (1 sigma)
+  double relaxation_fraction = 0.3;  ///< extra stress carried while moving (standard linear solid)
+  double relaxation_time_s = 20.0;   ///< time constant of stress relaxation while holding
+  double max_velocity_mm_per_s = 20.0;
+  std::uint64_t seed = 1;
+};
+
+/// The simulated mechanical tester: a libmodbus Modbus TCP server on its own thread, serving
+/// the register map of docs/instruments/mechanical-tester.md, with finite-speed motion, load
+/// from the tissue model plus relaxation and noise, load-limit trips and fault injection.
+/// Thread-safe: the hooks may be called from any thread while clients talk to it.
+class TesterTwin {
+ public:
+  explicit TesterTwin(TesterTwinOptions options = {});
+  ~TesterTwin();  ///< stops the server
+  TesterTwin(const TesterTwin&) = delete;
+  TesterTwin& operator=(const TesterTwin&) = delete;
+
+  int port() const;
+  devices::ModbusTcpAddress address() const;
+
+  /// Current pin position (mm) and displacement into the sample (mm, >= 0).
+  double position_mm() const;
+  double displacement_mm() const;
+
+  // Fault hooks.
+  void inject(const ModbusFault& fault);
+  void drop_connections();                   ///< closes every client connection now
+  void trip_load_limit();                    ///< as if the load exceeded the limit
+  void set_drive_fault(std::uint16_t code);  ///< latches a fault with this code (clear_fault resets)
+  int connections_accepted() const;
+  int faults_pending() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace tocd::mocks

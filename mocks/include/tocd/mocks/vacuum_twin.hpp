@@ -1,0 +1,50 @@
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "tocd/devices/modbus_options.hpp"
+#include "tocd/mocks/modbus_faults.hpp"
+
+namespace tocd::mocks {
+
+class SimClock;
+
+struct VacuumTwinOptions {
+  std::shared_ptr<const SimClock> clock;  ///< default: a real-time clock
+  int slave_id = 1;
+  double atmosphere_kPa = 101.3;
+  double ultimate_kPa = 0.5;          ///< best the pump reaches with no leak
+  double pump_time_constant_s = 4.0;  ///< chamber volume / pumping speed
+  double leak_kPa_per_s = 0.05;       ///< leak into the chamber (first-order pump-down with leak)
+  double vent_time_constant_s = 0.5;
+  double seal_loss_leak_kPa_per_s = 40.0;  ///< leak after inject_seal_loss()
+  double setpoint_timeout_s = 60.0;        ///< pumping this long without reaching the setpoint = error 1
+};
+
+/// The simulated vacuum pump controller: a libmodbus Modbus RTU server on the master side of a
+/// pseudo-terminal pair (RS-232 mode), serving docs/instruments/vacuum-controller.md.
+/// Clients open device_path() like a serial port. Thread-safe hooks.
+class VacuumTwin {
+ public:
+  explicit VacuumTwin(VacuumTwinOptions options = {});
+  ~VacuumTwin();
+  VacuumTwin(const VacuumTwin&) = delete;
+  VacuumTwin& operator=(const VacuumTwin&) = delete;
+
+  const std::string& device_path() const;  ///< the slave side, e.g. /dev/pts/7
+  devices::ModbusRtuAddress address() const;
+  double pressure_kPa() const;
+
+  // Fault hooks.
+  void inject(const ModbusFault& fault);
+  void inject_seal_loss(bool lost = true);  ///< the chamber seal leaks (or is fixed again)
+  int faults_pending() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace tocd::mocks

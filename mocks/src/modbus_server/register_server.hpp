@@ -1,0 +1,37 @@
+#pragma once
+
+#include <cstdint>
+#include <mutex>
+#include <random>
+
+#include <modbus/modbus.h>
+
+#include "modbus_server/fault_queue.hpp"
+
+namespace tocd::mocks {
+
+/// The instrument behind a Modbus server: keeps its registers current and acts on writes.
+/// All three calls happen with the server's state mutex held.
+class RegisterDevice {
+ public:
+  virtual ~RegisterDevice() = default;
+  /// Advance the physics to now and publish it in the input registers.
+  virtual void refresh(modbus_mapping_t& map) = 0;
+  /// 0 to accept a write of `count` holding registers at `address`, or a Modbus exception code.
+  virtual int check_write(const modbus_mapping_t& map, int address, int count,
+                          const std::uint16_t* values) = 0;
+  /// Act on a write that has been stored in the holding registers.
+  virtual void after_write(modbus_mapping_t& map, int address, int count) = 0;
+};
+
+/// Serves one received request (`req`, `length` bytes, as modbus_receive gave it) on the
+/// context's current socket, applying the next injected fault. Returns false when the
+/// connection must be closed (drop_connection).
+bool serve_request(modbus_t* ctx, int fd, bool tcp, const std::uint8_t* req, int length,
+                   modbus_mapping_t& map, RegisterDevice& device, std::mutex& state_mutex, FaultQueue& faults,
+                   std::mt19937_64& rng);
+
+/// CRC-16/MODBUS of a frame (transmitted low byte first).
+std::uint16_t modbus_crc16(const std::uint8_t* data, std::size_t n);
+
+}  // namespace tocd::mocks

@@ -1,0 +1,57 @@
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "powermeter/scpi_meter_engine.hpp"
+#include "tocd/mocks/power_meter_twin.hpp"
+
+namespace tocd::mocks {
+
+/// Shared state of one simulated meter: the engine, the fault counters and the TCP server.
+/// Transports call handle() with each complete program message.
+class PowerMeterTwin::Impl {
+ public:
+  using Clock = std::chrono::steady_clock;
+  explicit Impl(PowerMeterTwinOptions options);
+  ~Impl();
+
+  enum class Action { none, answer, drop };
+  struct Reply {
+    Action action = Action::none;
+    std::string bytes;        ///< answer without terminator (may be garbage on purpose)
+    Clock::time_point ready;  ///< not to be sent before this
+  };
+  Reply handle(std::string_view message);
+
+  enum class UsbFault { none, wrong_tag, short_header };
+  UsbFault take_usb_fault();
+  void note_usb_rejection(const std::string& why);
+
+  // TCP server (scpi_tcp_server.cpp)
+  int start_tcp(const std::string& host, int port);
+  void stop_tcp();
+  void serve_loop();
+
+  mutable std::mutex mutex;
+  PowerMeterTwinOptions options;
+  std::shared_ptr<const SimClock> clock;
+  detail::ScpiMeterEngine engine;
+  PowerMeterTwinStats stats;
+  bool usb_unplugged = false;
+  // fault counters
+  int delayed = 0;
+  std::chrono::milliseconds delay{0};
+  int swallow = 0, garbage = 0, non_numeric = 0, drop = 0, wrong_tag = 0, short_header = 0;
+
+  std::string tcp_host;
+  int tcp_port = 0;
+  int listen_fd = -1;
+  std::atomic<bool> stopping{false};
+  std::thread server;
+};
+
+}  // namespace tocd::mocks

@@ -1,0 +1,300 @@
+// The simulated mechanical tester: Modbus TCP server (libmodbus server API) on its own thread.
+#include "tocd/mocks/tester_twin.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <thread>
+#include <vector>
+
+#include <arpa/inet.h>
+#include <fmt/format.h>
+#include <modbus/modbus.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <sys/select.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include "modbus_server/identity.hpp"
+#include "modbus_server/register_server.hpp"
+#include "tester/tester_physics.hpp"
+#include "tocd/core/error.hpp"
+#include "tocd/core/log.hpp"
+#include "tocd/devices/register_codec.hpp"
+#include "tocd/devices/tester_registers.hpp"
+#include "tocd/mocks/sim_clock.hpp"
+
+namespace tocd::mocks {
+
+namespace m = tocd::devices::tester_map;
+using tocd::devices::float_to_registers;
+using tocd::devices::registers_to_float;
+
+namespace {
+
+void put_float(std::uint16_t* regs, int at, double v) {
+  const auto r = float_to_registers(static_cast<float>(v));
+  regs[at] = r[0];
+  regs[at + 1] = r[1];
+}
+
+/// The register view of TesterPhysics.
+class TesterRegisters final : public RegisterDevice {
+ public:
+  TesterRegisters(TesterPhysics& physics, const SimClock& clock) : physics_(physics), clock_(clock) {}
+
+  void refresh(modbus_mapping_t& map) override {
+    physics_.advance(static_cast<double>(clock_.now_ns()) * 1e-9);
+    std::uint16_t* in = map.tab_input_registers;
+    put_float(in, m::in_position, physics_.position_mm());
+    put_float(in, m::in_load, physics_.measured_load_N());
+    std::uint16_t s = m::st_homed;
+    if (physics_.fault_code() == 0) s |= m::st_ready;
+    if (physics_.moving()) s |= m::st_moving;
+    if (physics_.at_target()) s |= m::st_at_target;
+    if (physics_.limit()) s |= m::st_limit;
+    if (physics_.fault_code() != 0) s |= m::st_fault;
+    in[m::in_status] = s;
+    in[m::in_fault_code] = physics_.fault_code();
+  }
+
+  int check_write(const modbus_mapping_t& map, int address, int count, const std::uint16_t* values) override {
+    // What the holding registers would hold after the write.
+    std::vector<std::uint16_t> hr(map.tab_registers, map.tab_registers + map.nb_registers);
+    std::copy(values, values + count, hr.begin() + address);
+    auto touched = [&](int reg) { return reg >= address && reg < address + count; };
+    if (touched(m::hr_max_travel) || touched(m::hr_max_travel + 1) || touched(m::hr_max_load) ||
+        touched(m::hr_max_load + 1)) {
+      const float travel = registers_to_float(hr[m::hr_max_travel], hr[m::hr_max_travel + 1]);
+      const float load = registers_to_float(hr[m::hr_max_load], hr[m::hr_max_load + 1]);
+      if (!std::isfinite(travel) || !std::isfinite(load) || travel <= 0 || load <= 0) return 3;
+    }
+    if (!touched(m::hr_command)) return 0;
+    const std::uint16_t cmd = hr[m::hr_command];
+    if (cmd > m::cmd_clear_fault) return 3;
+    if (cmd == m::cmd_move) {
+      // Validated here so that a refused move answers an exception and changes nothing.
+      TesterPhysics probe = physics_;
+      return probe.move(registers_to_float(hr[m::hr_target], hr[m::hr_target + 1]),
+                        registers_to_float(hr[m::hr_velocity], hr[m::hr_velocity + 1]));
+    }
+    if (cmd == m::cmd_home) {
+      TesterPhysics probe = physics_;
+      return probe.home();
+    }
+    return 0;
+  }
+
+  void after_write(modbus_mapping_t& map, int address, int count) override {
+    std::uint16_t* hr = map.tab_registers;
+    auto touched = [&](int reg) { return reg >= address && reg < address + count; };
+    if (touched(m::hr_max_travel) || touched(m::hr_max_load + 1))
+      physics_.set_limits(registers_to_float(hr[m::hr_max_travel], hr[m::hr_max_travel + 1]),
+                          registers_to_float(hr[m::hr_max_load], hr[m::hr_max_load + 1]));
+    if (!touched(m::hr_command)) return;
+    switch (hr[m::hr_command]) {
+      case m::cmd_move:
+        physics_.move(registers_to_float(hr[m::hr_target], hr[m::hr_target + 1]),
+                      registers_to_float(hr[m::hr_velocity], hr[m::hr_velocity + 1]));
+        break;
+      case m::cmd_stop:
+        physics_.stop();
+        break;
+      case m::cmd_home:
+        physics_.home();
+        break;
+      case m::cmd_tare:
+        physics_.tare();
+        break;
+      case m::cmd_clear_fault:
+        physics_.clear_fault();
+        break;
+      default:
+        break;
+    }
+    hr[m::hr_command] = m::cmd_none;  // reads back 0 once accepted
+    refresh(map);
+  }
+
+ private:
+  TesterPhysics& physics_;
+  const SimClock& clock_;
+};
+
+}  // namespace
+
+struct TesterTwin::Impl {
+  TesterTwinOptions opt;
+  std::shared_ptr<const SimClock> clock;
+  TesterPhysics physics;
+  TesterRegisters registers;
+  mutable std::mutex state_mutex;
+  FaultQueue faults;
+  modbus_t* ctx = nullptr;
+  modbus_mapping_t* map = nullptr;
+  int listen_fd = -1;
+  int port = 0;
+  std::mutex clients_mutex;
+  std::vector<int> clients;
+  std::atomic<int> accepted{0};
+  std::atomic<bool> stop{false};
+  std::thread thread;
+  std::mt19937_64 rng;
+
+  static TesterPhysics::Params physics_params(const TesterTwinOptions& o) {
+    TesterPhysics::Params p;
+    p.tissue = o.tissue;
+    p.contact_position_mm = o.contact_position_mm;
+    p.max_travel_mm = o.max_travel_mm;
+    p.max_load_N = o.max_load_N;
+    p.load_noise_N = o.load_noise_N;
+    p.relaxation_fraction = o.relaxation_fraction;
+    p.relaxation_time_s = o.relaxation_time_s;
+    p.max_velocity_mm_per_s = o.max_velocity_mm_per_s;
+    p.seed = o.seed;
+    return p;
+  }
+
+  explicit Impl(TesterTwinOptions o)
+      : opt(std::move(o)),
+        clock(opt.clock ? opt.clock : std::make_shared<SimClock>(1.0)),
+        physics(physics_params(opt)),
+        registers(physics, *clock),
+        rng(opt.seed ^ 0x9E3779B97F4A7C15ull) {
+    ctx = modbus_new_tcp(opt.host.c_str(), opt.port);
+    map = modbus_mapping_new(0, 0, m::holding_count, m::input_count);
+    if (!ctx || !map) throw Error("mechanical tester twin: cannot allocate the Modbus server");
+    modbus_set_slave(ctx, opt.slave_id);
+    modbus_set_byte_timeout(ctx, 0, 100000);
+    write_identity_block(map->tab_input_registers, m::map_version, "tocdlab", "simulated load frame LF-1",
+                         fmt::format("SIM{:05d}", static_cast<int>(opt.seed % 100000)), "1.0.0");
+    put_float(map->tab_registers, m::hr_velocity, 1.0);
+    put_float(map->tab_registers, m::hr_max_travel, opt.max_travel_mm);
+    put_float(map->tab_registers, m::hr_max_load, opt.max_load_N);
+    registers.refresh(*map);
+    listen_fd = modbus_tcp_listen(ctx, 8);
+    if (listen_fd < 0)
+      throw Error(fmt::format("mechanical tester twin: cannot listen on {}:{}: {}", opt.host, opt.port,
+                              modbus_strerror(errno)));
+    sockaddr_in addr{};
+    socklen_t len = sizeof addr;
+    getsockname(listen_fd, reinterpret_cast<sockaddr*>(&addr), &len);
+    port = ntohs(addr.sin_port);
+    thread = std::thread([this] { serve(); });
+  }
+
+  ~Impl() {
+    stop = true;
+    if (thread.joinable()) thread.join();
+    for (int fd : clients) ::close(fd);
+    if (listen_fd >= 0) ::close(listen_fd);
+    modbus_mapping_free(map);
+    modbus_free(ctx);
+  }
+
+  void close_client(int fd) {
+    std::lock_guard lock(clients_mutex);
+    clients.erase(std::remove(clients.begin(), clients.end(), fd), clients.end());
+    ::close(fd);
+  }
+
+  void serve() {
+    std::vector<std::uint8_t> req(MODBUS_TCP_MAX_ADU_LENGTH);
+    while (!stop) {
+      fd_set rd;
+      FD_ZERO(&rd);
+      FD_SET(listen_fd, &rd);
+      int top = listen_fd;
+      std::vector<int> snapshot;
+      {
+        std::lock_guard lock(clients_mutex);
+        snapshot = clients;
+      }
+      for (int fd : snapshot) {
+        FD_SET(fd, &rd);
+        top = std::max(top, fd);
+      }
+      timeval tv{0, 10000};  // wake up now and then to notice stop
+      if (select(top + 1, &rd, nullptr, nullptr, &tv) <= 0) continue;
+      if (FD_ISSET(listen_fd, &rd)) {
+        const int fd = ::accept(listen_fd, nullptr, nullptr);
+        if (fd >= 0) {
+          const int one = 1;
+          setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+          std::lock_guard lock(clients_mutex);
+          clients.push_back(fd);
+          ++accepted;
+        }
+      }
+      for (int fd : snapshot) {
+        if (!FD_ISSET(fd, &rd)) continue;
+        modbus_set_socket(ctx, fd);
+        const int n = modbus_receive(ctx, req.data());
+        if (n < 0) {  // closed by the client, or a request we cannot frame
+          close_client(fd);
+          continue;
+        }
+        if (n == 0) continue;
+        if (!serve_request(ctx, fd, true, req.data(), n, *map, registers, state_mutex, faults, rng))
+          close_client(fd);
+      }
+    }
+  }
+};
+
+TesterTwin::TesterTwin(TesterTwinOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {
+  tocd::logger("mocks")->debug("mechanical tester twin on {}:{}", impl_->opt.host, impl_->port);
+}
+
+TesterTwin::~TesterTwin() = default;
+
+int TesterTwin::port() const {
+  return impl_->port;
+}
+
+devices::ModbusTcpAddress TesterTwin::address() const {
+  return {impl_->opt.host, impl_->port, impl_->opt.slave_id};
+}
+
+double TesterTwin::position_mm() const {
+  std::lock_guard lock(impl_->state_mutex);
+  impl_->physics.advance(static_cast<double>(impl_->clock->now_ns()) * 1e-9);
+  return impl_->physics.position_mm();
+}
+
+double TesterTwin::displacement_mm() const {
+  std::lock_guard lock(impl_->state_mutex);
+  impl_->physics.advance(static_cast<double>(impl_->clock->now_ns()) * 1e-9);
+  return impl_->physics.displacement_mm();
+}
+
+void TesterTwin::inject(const ModbusFault& fault) {
+  impl_->faults.push(fault);
+}
+
+void TesterTwin::drop_connections() {
+  // shutdown() wakes the server's select with EOF; the server then closes the socket itself.
+  std::lock_guard lock(impl_->clients_mutex);
+  for (int fd : impl_->clients) ::shutdown(fd, SHUT_RDWR);
+}
+
+void TesterTwin::trip_load_limit() {
+  std::lock_guard lock(impl_->state_mutex);
+  impl_->physics.trip_load_limit();
+}
+
+void TesterTwin::set_drive_fault(std::uint16_t code) {
+  std::lock_guard lock(impl_->state_mutex);
+  impl_->physics.set_drive_fault(code);
+}
+
+int TesterTwin::connections_accepted() const {
+  return impl_->accepted;
+}
+int TesterTwin::faults_pending() const {
+  return impl_->faults.pending();
+}
+
+}  // namespace tocd::mocks

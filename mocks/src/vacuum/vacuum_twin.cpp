@@ -1,0 +1,224 @@
+// The simulated vacuum controller: Modbus RTU server on the master side of a pseudo-terminal.
+#include "tocd/mocks/vacuum_twin.hpp"
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <thread>
+#include <vector>
+
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <modbus/modbus.h>
+#include <pty.h>
+#include <sys/select.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include "modbus_server/identity.hpp"
+#include "modbus_server/register_server.hpp"
+#include "tocd/core/error.hpp"
+#include "tocd/devices/register_codec.hpp"
+#include "tocd/devices/vacuum_registers.hpp"
+#include "tocd/mocks/sim_clock.hpp"
+#include "vacuum/vacuum_physics.hpp"
+
+namespace tocd::mocks {
+
+namespace m = tocd::devices::vacuum_map;
+using tocd::devices::float_to_registers;
+using tocd::devices::registers_to_float;
+
+namespace {
+
+void put_float(std::uint16_t* regs, int at, double v) {
+  const auto r = float_to_registers(static_cast<float>(v));
+  regs[at] = r[0];
+  regs[at + 1] = r[1];
+}
+
+class VacuumRegisters final : public RegisterDevice {
+ public:
+  VacuumRegisters(VacuumPhysics& physics, const SimClock& clock) : physics_(physics), clock_(clock) {}
+
+  void refresh(modbus_mapping_t& map) override {
+    physics_.advance(static_cast<double>(clock_.now_ns()) * 1e-9);
+    std::uint16_t* in = map.tab_input_registers;
+    put_float(in, m::in_pressure, physics_.pressure_kPa());
+    put_float(in, m::in_setpoint, physics_.setpoint_kPa());
+    std::uint16_t s = 0;
+    if (physics_.pump_running()) s |= m::st_pump_running;
+    if (physics_.vent_open()) s |= m::st_vent_open;
+    if (physics_.at_setpoint()) s |= m::st_at_setpoint;
+    if (physics_.error_code() != 0) s |= m::st_error;
+    in[m::in_status] = s;
+    in[m::in_error_code] = physics_.error_code();
+    map.tab_registers[m::hr_pump_run] = physics_.pump_running() ? 1 : 0;
+  }
+
+  int check_write(const modbus_mapping_t& map, int address, int count, const std::uint16_t* values) override {
+    std::vector<std::uint16_t> hr(map.tab_registers, map.tab_registers + map.nb_registers);
+    std::copy(values, values + count, hr.begin() + address);
+    auto touched = [&](int reg) { return reg >= address && reg < address + count; };
+    VacuumPhysics probe = physics_;
+    if (touched(m::hr_setpoint) || touched(m::hr_setpoint + 1))
+      if (const int e = probe.set_setpoint(registers_to_float(hr[m::hr_setpoint], hr[m::hr_setpoint + 1])))
+        return e;
+    if (touched(m::hr_pump_run)) {
+      if (hr[m::hr_pump_run] > 1) return 3;
+      if (const int e = probe.run_pump(hr[m::hr_pump_run] == 1)) return e;
+    }
+    if (touched(m::hr_vent) && hr[m::hr_vent] > 1) return 3;
+    if (touched(m::hr_clear_error) && hr[m::hr_clear_error] > 1) return 3;
+    return 0;
+  }
+
+  void after_write(modbus_mapping_t& map, int address, int count) override {
+    const std::uint16_t* hr = map.tab_registers;
+    auto touched = [&](int reg) { return reg >= address && reg < address + count; };
+    if (touched(m::hr_setpoint) || touched(m::hr_setpoint + 1))
+      physics_.set_setpoint(registers_to_float(hr[m::hr_setpoint], hr[m::hr_setpoint + 1]));
+    if (touched(m::hr_pump_run)) physics_.run_pump(hr[m::hr_pump_run] == 1);
+    if (touched(m::hr_vent)) physics_.set_vent(hr[m::hr_vent] == 1);
+    if (touched(m::hr_clear_error) && hr[m::hr_clear_error] == 1) {
+      physics_.clear_error();
+      map.tab_registers[m::hr_clear_error] = 0;
+    }
+    refresh(map);
+  }
+
+ private:
+  VacuumPhysics& physics_;
+  const SimClock& clock_;
+};
+
+VacuumPhysics::Params physics_params(const VacuumTwinOptions& o) {
+  VacuumPhysics::Params p;
+  p.atmosphere_kPa = o.atmosphere_kPa;
+  p.ultimate_kPa = o.ultimate_kPa;
+  p.pump_time_constant_s = o.pump_time_constant_s;
+  p.leak_kPa_per_s = o.leak_kPa_per_s;
+  p.vent_time_constant_s = o.vent_time_constant_s;
+  p.seal_loss_leak_kPa_per_s = o.seal_loss_leak_kPa_per_s;
+  p.setpoint_timeout_s = o.setpoint_timeout_s;
+  return p;
+}
+
+}  // namespace
+
+struct VacuumTwin::Impl {
+  VacuumTwinOptions opt;
+  std::shared_ptr<const SimClock> clock;
+  VacuumPhysics physics;
+  VacuumRegisters registers;
+  std::mutex state_mutex;
+  FaultQueue faults;
+  int master_fd = -1, slave_fd = -1;
+  std::string path;
+  modbus_t* ctx = nullptr;
+  modbus_mapping_t* map = nullptr;
+  std::atomic<bool> stop{false};
+  std::thread thread;
+  std::mt19937_64 rng{7};
+
+  explicit Impl(VacuumTwinOptions o)
+      : opt(std::move(o)),
+        clock(opt.clock ? opt.clock : std::make_shared<SimClock>(1.0)),
+        physics(physics_params(opt)),
+        registers(physics, *clock) {
+    if (opt.slave_id < 1 || opt.slave_id > 247)
+      throw ConfigError(fmt::format("vacuum twin: slave id must be 1..247 (got {})", opt.slave_id));
+    char name[128] = {};
+    if (openpty(&master_fd, &slave_fd, name, nullptr, nullptr) != 0)
+      throw Error(fmt::format("vacuum twin: cannot open a pseudo-terminal: {}", std::strerror(errno)));
+    path = name;
+    termios t{};
+    tcgetattr(slave_fd, &t);
+    cfmakeraw(&t);  // bytes pass untouched, as on a real serial line
+    tcsetattr(slave_fd, TCSANOW, &t);
+    map = modbus_mapping_new(0, 0, m::holding_count, m::input_count);
+    if (!map) throw Error("vacuum twin: cannot allocate registers");
+    write_identity_block(map->tab_input_registers, m::map_version, "tocdlab",
+                         "simulated pump controller VC-1", "SIMVAC01", "1.0.0");
+    put_float(map->tab_registers, m::hr_setpoint, physics.setpoint_kPa());
+    make_context();
+    registers.refresh(*map);
+    thread = std::thread([this] { serve(); });
+  }
+
+  /// libmodbus RTU expects, after a request for another slave, that slave's answer next; a
+  /// fresh context forgets that, since on this line nobody else answers.
+  void make_context() {
+    if (ctx) modbus_free(ctx);
+    ctx = modbus_new_rtu(path.c_str(), 19200, 'N', 8, 1);  // serial settings unused: the fd is given
+    if (!ctx) throw Error("vacuum twin: cannot allocate the Modbus RTU server");
+    modbus_set_slave(ctx, opt.slave_id);
+    modbus_set_socket(ctx, master_fd);  // RS-232 mode: the RS-485 ioctl would fail on a pty
+    modbus_set_byte_timeout(ctx, 0, 50000);
+  }
+
+  ~Impl() {
+    stop = true;
+    if (thread.joinable()) thread.join();
+    modbus_free(ctx);
+    modbus_mapping_free(map);
+    ::close(master_fd);
+    ::close(slave_fd);
+  }
+
+  void serve() {
+    std::vector<std::uint8_t> req(MODBUS_RTU_MAX_ADU_LENGTH);
+    while (!stop) {
+      fd_set rd;
+      FD_ZERO(&rd);
+      FD_SET(master_fd, &rd);
+      timeval tv{0, 10000};
+      if (select(master_fd + 1, &rd, nullptr, nullptr, &tv) <= 0) continue;
+      const int n = modbus_receive(ctx, req.data());
+      if (n < 0) {  // bad CRC or a partial frame from the client: drop what is left
+        modbus_flush(ctx);
+        continue;
+      }
+      if (n == 0) {
+        make_context();
+        continue;
+      }
+      serve_request(ctx, master_fd, false, req.data(), n, *map, registers, state_mutex, faults, rng);
+    }
+  }
+};
+
+VacuumTwin::VacuumTwin(VacuumTwinOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {}
+VacuumTwin::~VacuumTwin() = default;
+
+const std::string& VacuumTwin::device_path() const {
+  return impl_->path;
+}
+
+devices::ModbusRtuAddress VacuumTwin::address() const {
+  devices::ModbusRtuAddress a;
+  a.device = impl_->path;
+  a.slave_id = impl_->opt.slave_id;
+  return a;
+}
+
+double VacuumTwin::pressure_kPa() const {
+  std::lock_guard lock(impl_->state_mutex);
+  impl_->physics.advance(static_cast<double>(impl_->clock->now_ns()) * 1e-9);
+  return impl_->physics.pressure_kPa();
+}
+
+void VacuumTwin::inject(const ModbusFault& fault) {
+  impl_->faults.push(fault);
+}
+
+void VacuumTwin::inject_seal_loss(bool lost) {
+  std::lock_guard lock(impl_->state_mutex);
+  impl_->physics.set_seal_lost(lost);
+}
+
+int VacuumTwin::faults_pending() const {
+  return impl_->faults.pending();
+}
+
+}  // namespace tocd::mocks

@@ -1,0 +1,107 @@
+// The simulated lab end to end: open_lab on its config, every instrument on its real wire.
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "tocd/devices/errors.hpp"
+#include "tocd/devices/lab.hpp"
+#include "tocd/mocks/simulated_lab.hpp"
+#include "tocd/mocks/tester_twin.hpp"
+#include "tocd/mocks/vacuum_twin.hpp"
+
+using namespace tocd;
+
+namespace {
+
+mocks::SimulatedLabOptions fast() {
+  mocks::SimulatedLabOptions o;
+  o.clock_factor = 50.0;
+  o.source_power_W = 1e-3;
+  return o;
+}
+
+devices::TesterReading settle(devices::MechanicalTester& t) {
+  for (int i = 0; i < 2000; ++i) {
+    const auto r = t.read();
+    if (!r.status.moving) return r;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  ADD_FAILURE() << "the tester never settled";
+  return t.read();
+}
+
+TEST(SimulatedLab, ConfigOpensEveryInstrument) {
+  mocks::SimulatedLab lab(fast());
+  const devices::LabConfig cfg = lab.config();
+  ASSERT_TRUE(cfg.tester && cfg.power_meter && cfg.vacuum);
+  // The config survives its own TOML form (what `tocdlab simlab` prints).
+  const devices::LabConfig again = devices::parse_lab_config(devices::to_toml(cfg), "simlab");
+  devices::LabInstruments in = devices::open_lab(again);
+  ASSERT_TRUE(in.tester && in.power_meter && in.vacuum);
+  EXPECT_EQ(in.tester->identity().vendor, "tocdlab");
+  EXPECT_FALSE(in.power_meter->identity().model.empty());
+  EXPECT_EQ(in.vacuum->identity().model, "simulated pump controller VC-1");
+  EXPECT_NEAR(in.vacuum->read().pressure_kPa, 101.3, 0.1);
+}
+
+TEST(SimulatedLab, PowerFollowsTransmissionAtThePinDisplacement) {
+  mocks::SimulatedLabOptions o = fast();
+  o.with_vacuum = false;
+  const auto tissue = mocks::make_analytic_tissue(2.5);
+  o.tissue = tissue;
+  mocks::SimulatedLab lab(o);
+  devices::LabInstruments in = devices::open_lab(lab.config());
+  ASSERT_FALSE(in.vacuum);
+  in.power_meter->zero();  // remove the dark offset
+  in.power_meter->set_averaging(100);
+  for (const double position : {0.5, 1.5, 2.5}) {  // above contact, 0.5 mm in, 1.5 mm in
+    in.tester->move_to(position, 10.0);
+    const auto r = settle(*in.tester);
+    const double d = std::max(0.0, position - 1.0);
+    EXPECT_NEAR(lab.tester().displacement_mm(), d, 1e-6);
+    const double expected = 1e-3 * tissue->transmission(d);
+    const double got = in.power_meter->measure().power_W;
+    // Noise: 0.2 % per sample, averaged over 100 -> 0.02 %; allow 5 sigma + zeroing residue.
+    EXPECT_NEAR(got, expected, 1e-3 * expected + 2e-9) << "position " << position;
+    if (d > 0) {
+      EXPECT_GT(r.load_N, 0.0);
+    }
+  }
+}
+
+TEST(SimulatedLab, FaultHooksReachTheirInstruments) {
+  mocks::SimulatedLab lab(fast());
+  devices::LabInstruments in = devices::open_lab(lab.config());
+  in.tester->read();
+  lab.drop_tester_connections();
+  EXPECT_NO_THROW(in.tester->read());  // reconnects
+  lab.trip_load_limit();
+  EXPECT_TRUE(in.tester->read().status.limit);
+  mocks::ModbusFault f;
+  f.kind = mocks::ModbusFaultKind::bad_crc;
+  lab.inject_vacuum_fault(f);
+  EXPECT_NO_THROW(in.vacuum->read());  // retried
+  EXPECT_EQ(lab.vacuum()->faults_pending(), 0);
+  ASSERT_TRUE(lab.force_power_over_range(true));
+  EXPECT_TRUE(in.power_meter->measure().over_range);
+  lab.force_power_over_range(false);
+  EXPECT_FALSE(in.power_meter->measure().over_range);
+  ASSERT_TRUE(lab.inject_power_meter_error(-222, "Data out of range"));
+  EXPECT_THROW(in.power_meter->set_averaging(10), devices::DeviceError);
+}
+
+TEST(SimulatedLab, ClockFactorMakesTheProtocolFast) {
+  mocks::SimulatedLab lab(fast());
+  devices::LabInstruments in = devices::open_lab(lab.config());
+  const auto t0 = std::chrono::steady_clock::now();
+  in.tester->move_to(5.0, 1.0);  // 5 s simulated
+  const auto r = settle(*in.tester);
+  const double real_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_FALSE(r.status.fault);
+  EXPECT_NEAR(r.position_mm, 5.0, 1e-6);
+  EXPECT_LT(real_s, 1.0);
+}
+
+}  // namespace
