@@ -10,7 +10,9 @@
 namespace tocd::gui {
 
 LiveChart::LiveChart(Options options, QWidget* parent)
-    : QChartView(parent), options_(std::move(options)), decimator_(options_.bucket_width) {
+    : QChartView(parent),
+      options_(std::move(options)),
+      decimator_(options_.bucket_width, options_.max_buckets) {
   auto* chart = new QChart();
   chart->setTitle(options_.title);
   chart->legend()->hide();

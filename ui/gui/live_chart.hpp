@@ -22,8 +22,9 @@ class LiveChart : public QChartView {
     QString title;
     QString x_label;
     QString y_label;
-    double bucket_width = 0.02;  ///< decimation bucket along the key (s)
-    double x_window = 0.0;       ///< > 0: show only the last x_window of x (time charts)
+    double bucket_width = 0.02;      ///< decimation bucket along the key (s)
+    double x_window = 0.0;           ///< > 0: show only the last x_window of x (time charts)
+    std::size_t max_buckets = 2000;  ///< oldest buckets beyond this are forgotten
     int refresh_ms = 100;
   };
 
