@@ -96,8 +96,9 @@ void LabBackend::finish_connect(std::shared_ptr<Connected> c) {
   config_ = c->config;
   simulated_ = std::move(c->simulated);
   clock_factor_ = c->clock_factor;
-  emit connected(lab_name(), c->identities);
+  // Poll first: a slot of connected() may take the instruments for a run at once.
   start_polling(std::move(c->instruments));
+  emit connected(lab_name(), c->identities);
 }
 
 void LabBackend::disconnect_lab() {

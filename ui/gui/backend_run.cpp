@@ -64,7 +64,8 @@ void RunBackend::start(const acquisition::Protocol& protocol, const QString& db_
       [observer, protocol, db_path, inst, options, predictor] {
         auto s = std::make_shared<Started>();
         s->db = std::make_unique<db::Database>(db::Database::open(db_path.toStdString()));
-        s->engine = std::make_unique<acquisition::Engine>(*s->db, std::move(*inst), options, predictor, observer);
+        s->engine =
+            std::make_unique<acquisition::Engine>(*s->db, std::move(*inst), options, predictor, observer);
         // Observer callbacks may already come from here on; they only touch the sample
         // buffer and queued calls, so they are safe before `engine_` is set.
         s->run_id = s->engine->start(protocol);

@@ -3,7 +3,10 @@
 #include <QAction>
 #include <QTimer>
 #include <cmath>
+#include <cstdio>
 
+#include "backend_lab.hpp"
+#include "backend_run.hpp"
 #include "backend_study.hpp"
 #include "live_chart.hpp"
 #include "main_window.hpp"
@@ -45,6 +48,21 @@ DemoDriver::DemoDriver(MainWindow& window, QString screenshot_path, QObject* par
     : QObject(parent), window_(window), screenshot_(std::move(screenshot_path)) {
   connect(&window_, &MainWindow::lab_ready, this, &DemoDriver::on_lab_ready);
   connect(&window_, &MainWindow::run_finished, this, &DemoDriver::on_finished);
+  // The engine logs states and steps; predictions and failures get a line here.
+  RunBackend* run = window_.run_backend();
+  connect(run, &RunBackend::prediction_arrived, this, [](int step, double T, double err) {
+    std::fprintf(stderr, "demo: step %d predicted: T = %.4f +/- %.4f\n", step + 1, T, err);
+  });
+  connect(run, &RunBackend::failed, this, [this](const QString& action, const QString& message) {
+    std::fprintf(stderr, "demo: %s: %s\n", qPrintable(action), qPrintable(message));
+    emit done(1);
+  });
+  connect(window_.lab_backend(), &LabBackend::failed, this,
+          [this](const QString& action, const QString& message) {
+            if (started_) return;
+            std::fprintf(stderr, "demo: %s: %s\n", qPrintable(action), qPrintable(message));
+            emit done(1);
+          });
 }
 
 void DemoDriver::start() {
