@@ -13,16 +13,21 @@ namespace tocd::acquisition {
 namespace {
 
 /// Paces a poller at `rate_Hz` of simulated time. Late polls run back to back (no sample is
-/// skipped) unless the poller falls more than 0.5 s behind, then it skips ahead.
+/// skipped) unless the poller falls behind by more than 0.5 s of simulated time and 1 s of
+/// real time (a stalled driver, not a scheduling hiccup of a fast simulated clock); then it
+/// skips ahead and counts an overrun.
 class Pacer {
  public:
   Pacer(const ScaledClock& clock, double rate_Hz)
-      : clock_(clock), period_ns_(static_cast<std::int64_t>(1e9 / rate_Hz)), next_(clock.now_ns()) {}
+      : clock_(clock),
+        period_ns_(static_cast<std::int64_t>(1e9 / rate_Hz)),
+        max_lag_ns_(static_cast<std::int64_t>(std::max(0.5, clock.factor()) * 1e9)),
+        next_(clock.now_ns()) {}
   /// Waits for the next poll; true when it had to skip ahead.
   bool wait() {
     next_ += period_ns_;
     const std::int64_t now = clock_.now_ns();
-    if (now - next_ > 500'000'000) {
+    if (now - next_ > max_lag_ns_) {
       next_ = now;
       return true;
     }
@@ -33,6 +38,7 @@ class Pacer {
  private:
   const ScaledClock& clock_;
   std::int64_t period_ns_;
+  std::int64_t max_lag_ns_;
   std::int64_t next_;
 };
 

@@ -214,14 +214,17 @@ ResumePoint Database::resume_run(std::int64_t run_id) {
     p.gap_event.t_ns = p.gap_to_t_ns;
     p.gap_event.kind = "gap";
     p.gap_event.step_index = p.first_incomplete_step;
-    const bool same_boot = last && *last <= p.gap_to_t_ns;
-    p.gap_event.message =
-        same_boot ? fmt::format("resumed after a gap of {:.3f} s (was {}); continuing at step {}",
-                                static_cast<double>(p.gap_to_t_ns - *last) * 1e-9, to_string(r.status),
-                                p.first_incomplete_step)
-                  : fmt::format(
-                        "resumed (was {}; monotonic clock restarted, see run_anchors); continuing at step {}",
-                        to_string(r.status), p.first_incomplete_step);
+    if (!last)
+      p.gap_event.message = fmt::format("resumed (was {}, nothing recorded yet); continuing at step {}",
+                                        to_string(r.status), p.first_incomplete_step);
+    else if (*last <= p.gap_to_t_ns)
+      p.gap_event.message = fmt::format("resumed after a gap of {:.3f} s (was {}); continuing at step {}",
+                                        static_cast<double>(p.gap_to_t_ns - *last) * 1e-9,
+                                        to_string(r.status), p.first_incomplete_step);
+    else  // the monotonic clock restarted (reboot): times before and after differ in anchor
+      p.gap_event.message = fmt::format(
+          "resumed (was {}; the monotonic clock restarted, see run_anchors); continuing at step {}",
+          to_string(r.status), p.first_incomplete_step);
     p.gap_event.data_json = fmt::format(R"({{"gap_from_t_ns":{},"gap_to_t_ns":{},"resumed_utc_ns":{}}})",
                                         p.gap_from_t_ns, p.gap_to_t_ns, wall);
     p.gap_event.id = impl_->insert_event(p.gap_event);

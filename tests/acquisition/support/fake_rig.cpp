@@ -39,8 +39,10 @@ double FakeWorld::load_N() const {
   std::lock_guard lock(mu);
   const double t = now_s();
   const double d = position_mm_locked(t) - contact_mm;
-  double load = equilibrium_load_N(d);
-  if (t >= arrive_t) load *= 1.0 + relax_fraction * std::exp(-(t - arrive_t) / relax_tau_s);
+  // Viscoelastic: the load runs relax_fraction above equilibrium while the pin moves and
+  // relaxes back with relax_tau_s once it stops (continuous at the stop).
+  double load = equilibrium_load_N(d) * (1.0 + relax_fraction);
+  if (t >= arrive_t) load = equilibrium_load_N(d) * (1.0 + relax_fraction * std::exp(-(t - arrive_t) / relax_tau_s));
   return load + extra_load_N;
 }
 

@@ -24,7 +24,7 @@ struct FakeWorld {
   double contact_mm;
   double thickness_mm;
   double stiffness_N_per_mm15 = 4.0;  ///< equilibrium load = k d^1.5
-  double relax_fraction = 0.2;        ///< overshoot right after a move, relaxing with relax_tau_s
+  double relax_fraction = 0.2;        ///< load above equilibrium while moving, relaxing with relax_tau_s
   double relax_tau_s = 0.3;
   double source_W = 1e-3;
   double vacuum_tau_s = 0.3;

@@ -133,7 +133,7 @@ struct EngineOptions {
 struct EngineStats {
   std::uint64_t samples_enqueued = 0;  ///< accepted by the writer
   std::uint64_t samples_dropped = 0;   ///< refused by the writer (queue full)
-  std::uint64_t poll_overruns = 0;     ///< times a poller fell > 0.5 s behind and skipped ahead
+  std::uint64_t poll_overruns = 0;     ///< times a poller fell far behind (stalled driver) and skipped ahead
   db::WriterStats writer;
 };
 

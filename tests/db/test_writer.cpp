@@ -1,0 +1,147 @@
+// The background writer: everything enqueued is committed in order, counters add up, the
+// queue bound drops (and counts) what does not fit, unknown channels are rejected, not lost.
+#include <cmath>
+#include <thread>
+#include <vector>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "temp_dir.hpp"
+#include "tocd/db/database.hpp"
+#include "tocd/db/reader.hpp"
+#include "tocd/db/writer.hpp"
+
+namespace {
+
+using namespace tocd::db;
+using tocd::db::testing::TempDir;
+
+TEST(DbWriter, SamplesFromManyThreadsAreAllCommitted) {
+  TempDir dir;
+  const auto path = dir / "lab.sqlite";
+  Database db(path);
+  const auto run = db.create_run({}).id;
+  constexpr int kThreads = 4, kPerThread = 20000;
+  std::vector<Channel> ch;
+  for (int i = 0; i < kThreads; ++i)
+    ch.push_back(db.add_channel({0, run, "ch" + std::to_string(i), "V", 0, kUnset}));
+  Writer w(db, {std::chrono::milliseconds(20), 5000, 1'000'000});
+  std::vector<std::thread> producers;
+  for (int i = 0; i < kThreads; ++i) {
+    producers.emplace_back([&, i] {
+      for (int k = 0; k < kPerThread; ++k) {
+        if (k % 100 == 0) {  // a mix of single and span enqueues
+          std::vector<Sample> block;
+          for (int j = 0; j < 100; ++j) block.push_back({ch[i].id, k + j, (k + j) * 0.5 + i});
+          w.enqueue(block);
+          k += 99;
+        } else {
+          w.enqueue(Sample{ch[i].id, k, k * 0.5 + i});
+        }
+      }
+    });
+  }
+  for (auto& t : producers) t.join();
+  w.enqueue(EventRecord{0, run, 5, "operator", "note from the bench", -1, ""});
+  w.flush();
+  const WriterStats s = w.stats();
+  EXPECT_EQ(s.enqueued, kThreads * kPerThread + 1u);
+  EXPECT_EQ(s.written, s.enqueued);
+  EXPECT_EQ(s.dropped, 0u);
+  EXPECT_EQ(s.rejected, 0u);
+  EXPECT_EQ(s.failed, 0u);
+  EXPECT_EQ(s.queue_depth, 0u);
+  EXPECT_GT(s.batches, 0u);
+  EXPECT_EQ(s.last_error, "");
+
+  Reader rd(path);
+  for (int i = 0; i < kThreads; ++i) {
+    const auto got = rd.samples(ch[i].id);
+    ASSERT_EQ(got.size(), static_cast<std::size_t>(kPerThread));
+    for (int k = 0; k < kPerThread; ++k) {
+      ASSERT_EQ(got[k].t_ns, k);
+      ASSERT_EQ(got[k].value, k * 0.5 + i);
+    }
+  }
+  EXPECT_EQ(rd.events(run).size(), 1u);
+}
+
+TEST(DbWriter, BatchIntervalCommitsWithoutFlush) {
+  TempDir dir;
+  const auto path = dir / "lab.sqlite";
+  Database db(path);
+  const auto run = db.create_run({}).id;
+  const auto ch = db.add_channel({0, run, "load", "N", 0, kUnset});
+  Writer w(db, {std::chrono::milliseconds(10), 1'000'000, 1'000'000});
+  w.enqueue(Sample{ch.id, 1, 1.0});
+  Reader rd(path);
+  // Not a timing assertion: wait (up to 10 s) until the interval commit shows.
+  for (int i = 0; i < 1000 && rd.sample_count(ch.id) == 0; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_EQ(rd.sample_count(ch.id), 1);
+  EXPECT_EQ(w.stats().batches, 1u);
+}
+
+TEST(DbWriter, NanValuesSurviveAsNan) {
+  TempDir dir;
+  Database db(dir / "lab.sqlite");
+  const auto run = db.create_run({}).id;
+  const auto ch = db.add_channel({0, run, "power", "W", 0, kUnset});
+  {
+    Writer w(db);
+    w.enqueue(Sample{ch.id, 1, std::nan("")});  // an over-range reading
+    w.enqueue(Sample{ch.id, 2, -0.0});
+  }  // the destructor flushes
+  const auto got = Reader(dir / "lab.sqlite").samples(ch.id);
+  ASSERT_EQ(got.size(), 2u);
+  EXPECT_TRUE(std::isnan(got[0].value));
+  EXPECT_EQ(got[1].value, 0.0);
+}
+
+TEST(DbWriter, FullQueueDropsAndCountsNeverBlocks) {
+  TempDir dir;
+  Database db(dir / "lab.sqlite");
+  const auto run = db.create_run({}).id;
+  const auto ch = db.add_channel({0, run, "load", "N", 0, kUnset});
+  // A long interval and a huge batch size: nothing leaves the queue before the flush.
+  Writer w(db, {std::chrono::milliseconds(60'000), 1'000'000, 100});
+  std::vector<Sample> block(150, Sample{ch.id, 0, 1.0});
+  EXPECT_EQ(w.enqueue(block), 100u);
+  EXPECT_FALSE(w.enqueue(Sample{ch.id, 1, 1.0}));
+  auto s = w.stats();
+  EXPECT_EQ(s.enqueued, 100u);
+  EXPECT_EQ(s.dropped, 51u);
+  EXPECT_EQ(s.queue_high_water, 100u);
+  w.flush();
+  s = w.stats();
+  EXPECT_EQ(s.written, 100u);
+  EXPECT_TRUE(w.enqueue(Sample{ch.id, 2, 1.0}));  // room again
+  w.stop();
+  EXPECT_FALSE(w.enqueue(Sample{ch.id, 3, 1.0}));  // stopped: dropped, counted
+  EXPECT_EQ(w.stats().written, 101u);
+  EXPECT_EQ(w.stats().dropped, 52u);
+}
+
+TEST(DbWriter, UnknownChannelIsRejectedOthersKept) {
+  TempDir dir;
+  Database db(dir / "lab.sqlite");
+  const auto run = db.create_run({}).id;
+  const auto ch = db.add_channel({0, run, "load", "N", 0, kUnset});
+  Writer w(db);
+  w.enqueue(Sample{ch.id, 1, 1.0});
+  w.enqueue(Sample{424242, 2, 2.0});
+  w.enqueue(EventRecord{0, 999, 3, "fault", "no such run", -1, ""});
+  w.flush();
+  const auto s = w.stats();
+  EXPECT_EQ(s.written, 1u);
+  EXPECT_EQ(s.rejected, 2u);
+  EXPECT_THAT(s.last_error, ::testing::HasSubstr("unknown"));
+  // A channel added after the writer started is found.
+  const auto late = db.add_channel({0, run, "late", "N", 0, kUnset});
+  w.enqueue(Sample{late.id, 4, 4.0});
+  w.flush();
+  EXPECT_EQ(w.stats().written, 2u);
+}
+
+}  // namespace

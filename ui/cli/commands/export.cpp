@@ -1,0 +1,63 @@
+// `tocdlab export`: a run as CSV (steps, samples or events) or as one JSON document.
+#include "tocd/db/export.hpp"
+
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "command_registry.hpp"
+#include "tocd/core/error.hpp"
+#include "tocd/db/reader.hpp"
+
+namespace {
+
+struct ExportOptions {
+  std::string db, format = "csv", table = "steps", out;
+  std::int64_t run = 0;
+  std::size_t max_points = 0;
+};
+
+void export_run(const ExportOptions& o) {
+  const tocd::db::Reader reader(o.db);
+  reader.run(o.run);  // unknown run: error before any output file is created
+  std::ofstream file;
+  if (!o.out.empty()) {
+    file.open(o.out);
+    if (!file) throw tocd::ConfigError(fmt::format("cannot write '{}'", o.out));
+  }
+  std::ostream& out = o.out.empty() ? std::cout : file;
+  if (o.format == "json") {
+    tocd::db::JsonExportOptions jo;
+    jo.max_points_per_channel = o.max_points;
+    tocd::db::write_json(reader, o.run, jo, out);
+  } else {
+    const auto table = o.table == "samples"  ? tocd::db::CsvTable::samples
+                       : o.table == "events" ? tocd::db::CsvTable::events
+                                             : tocd::db::CsvTable::steps;
+    tocd::db::write_csv(reader, o.run, table, out);
+  }
+}
+
+void install_export(CLI::App& root) {
+  auto* cmd = root.add_subcommand("export", "Export a run as CSV or JSON");
+  auto o = std::make_shared<ExportOptions>();
+  cmd->add_option("--db", o->db, "measurement database file")->required();
+  cmd->add_option("--run", o->run, "run id (see tocdlab runs)")->required();
+  cmd->add_option("--format", o->format, "csv or json")
+      ->check(CLI::IsMember({"csv", "json"}))
+      ->capture_default_str();
+  cmd->add_option("--table", o->table, "CSV table: steps, samples or events")
+      ->check(CLI::IsMember({"steps", "samples", "events"}))
+      ->capture_default_str();
+  cmd->add_option("--max-points", o->max_points, "JSON: at most this many samples per channel (0 = all)")
+      ->capture_default_str();
+  cmd->add_option("-o,--out", o->out, "output file (default: standard output)");
+  cmd->callback([o] { export_run(*o); });
+}
+
+}  // namespace
+
+TOCD_CLI_COMMAND(export, install_export);

@@ -1,0 +1,136 @@
+// `tocdlab run`: runs an experiment protocol on the lab's instruments (or the simulated lab)
+// and records it into a measurement database (docs/acquisition.md).
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include "command_registry.hpp"
+#include "run_progress.hpp"
+#include "tocd/acquisition/compare_table.hpp"
+#include "tocd/acquisition/engine.hpp"
+#include "tocd/acquisition/protocol.hpp"
+#include "tocd/db/database.hpp"
+#include "tocd/db/reader.hpp"
+#include "tocd/devices/lab.hpp"
+#include "tocd/mocks/simulated_lab.hpp"
+#include "tocd/mocks/tissue.hpp"
+
+namespace {
+
+struct RunOptions {
+  std::string protocol, lab, db, operator_name;
+  std::optional<std::int64_t> resume;
+  bool simulated = false;
+  double clock_factor = 1.0;
+};
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw tocd::ConfigError(fmt::format("cannot read lab config '{}'", path));
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+void run_protocol(const RunOptions& o) {
+  namespace acq = tocd::acquisition;
+  if (o.lab.empty() == !o.simulated)
+    throw tocd::ConfigError("give exactly one of --lab LAB.toml or --simulated");
+  if (!o.resume && o.protocol.empty()) throw tocd::ConfigError("give a PROTOCOL.toml (or --resume RUN_ID)");
+  if (o.clock_factor != 1.0 && !o.simulated) {
+    throw tocd::ConfigError("--clock-factor only applies to the simulated lab (--simulated)");
+  }
+  if (o.resume && !o.protocol.empty()) {
+    std::cerr << "note: --resume continues with the protocol stored in run " << *o.resume << "; "
+              << o.protocol << " is not read\n";
+  }
+  // Parse everything the user wrote before touching the database.
+  std::optional<tocd::devices::LabConfig> lab_cfg;
+  std::string lab_text;
+  if (!o.lab.empty()) {
+    lab_cfg = tocd::devices::load_lab_config(o.lab);
+    lab_text = read_text(o.lab);
+  }
+  std::optional<acq::Protocol> fresh;
+  if (!o.resume) fresh = acq::load_protocol(o.protocol);
+
+  // Before any thread starts (simulated lab servers, drivers, engine): every thread then
+  // inherits the blocked SIGINT/SIGTERM and only the watcher sees them.
+  tocd::cli::AbortOnSignal signals(std::cerr);
+  tocd::db::Database db(o.db);
+  const acq::Protocol protocol =
+      fresh ? *fresh
+            : acq::parse_protocol(db.run(*o.resume).protocol_text, fmt::format("run {} protocol", *o.resume));
+
+  std::unique_ptr<tocd::mocks::SimulatedLab> sim;
+  if (o.simulated) {
+    tocd::mocks::SimulatedLabOptions so;
+    so.clock_factor = o.clock_factor;
+    so.contact_position_mm = protocol.contact_position_mm;
+    so.tissue = tocd::mocks::make_analytic_tissue(protocol.sample.thickness_mm);
+    so.with_vacuum = protocol.kind == acq::StepKind::vacuum;
+    sim = std::make_unique<tocd::mocks::SimulatedLab>(so);
+    lab_cfg = sim->config();
+    lab_text = "# simulated lab (tocdlab run --simulated)\n" + tocd::devices::to_toml(*lab_cfg);
+  }
+  tocd::devices::LabInstruments lab = tocd::devices::open_lab(*lab_cfg);
+  acq::InstrumentSet instruments{std::move(lab.tester), std::move(lab.power_meter), std::move(lab.vacuum)};
+
+  acq::EngineOptions eo;
+  eo.clock_factor = o.clock_factor;
+  eo.operator_name = o.operator_name;
+  eo.lab_config_text = lab_text;
+  tocd::cli::TerminalProgress progress(std::cout, ::isatty(STDOUT_FILENO) != 0);
+  acq::EngineState final_state;
+  std::int64_t run_id = 0;
+  std::string error;
+  {
+    acq::Engine engine(db, std::move(instruments), eo, nullptr, &progress);
+    signals.attach(&engine);
+    run_id = o.resume ? engine.resume(*o.resume) : engine.start(protocol);
+    std::cout << fmt::format("run {} ({} steps) recording into {}", run_id, protocol.steps.size(), o.db)
+              << std::endl;
+    final_state = engine.wait();
+    error = engine.error();
+    signals.attach(nullptr);
+  }
+  std::cout << '\n' << acq::format_compare_table(acq::compare_table(tocd::db::Reader(o.db), run_id));
+  const std::string again = fmt::format("tocdlab run --resume {} --db {} {}", run_id, o.db,
+                                        o.simulated ? std::string("--simulated") : "--lab " + o.lab);
+  switch (final_state) {
+    case acq::EngineState::completed:
+      std::cout << fmt::format("run {} completed\n", run_id);
+      break;
+    case acq::EngineState::aborted:
+      std::cout << fmt::format("run {} aborted; all data kept. Continue it with: {}\n", run_id, again);
+      break;
+    default:
+      throw tocd::Error(fmt::format("run {} {}: {}. Continue it with: {}", run_id,
+                                    acq::to_string(final_state), error, again));
+  }
+}
+
+void install_run(CLI::App& root) {
+  auto* cmd =
+      root.add_subcommand("run", "Run an experiment protocol and record it (see docs/acquisition.md)");
+  auto o = std::make_shared<RunOptions>();
+  cmd->add_option("protocol", o->protocol, "experiment protocol TOML (not needed with --resume)");
+  cmd->add_option("--lab", o->lab, "lab config TOML: which instruments, where");
+  cmd->add_flag("--simulated", o->simulated, "use the built-in simulated lab instead of --lab");
+  cmd->add_option("--db", o->db, "measurement database file (created when absent)")->required();
+  cmd->add_option("--resume", o->resume, "continue the interrupted or aborted run with this id");
+  cmd->add_option("--clock-factor", o->clock_factor, "simulated seconds per real second (--simulated only)")
+      ->capture_default_str();
+  cmd->add_option("--operator", o->operator_name, "operator name stored with the run");
+  cmd->callback([o] { run_protocol(*o); });
+}
+
+}  // namespace
+
+TOCD_CLI_COMMAND(run, install_run);

@@ -1,0 +1,48 @@
+#pragma once
+
+// Terminal view of a running engine (`tocdlab run`, `tocdlab demo`): a live status line with
+// the current step, readings and ETA, one line per recorded step, prediction and notable event.
+
+#include <chrono>
+#include <mutex>
+#include <ostream>
+
+#include "tocd/acquisition/engine.hpp"
+
+namespace tocd::cli {
+
+class TerminalProgress : public acquisition::EngineObserver {
+ public:
+  /// `live` rewrites one status line in place (a terminal); otherwise a status line is
+  /// printed every 10 s.
+  TerminalProgress(std::ostream& out, bool live) : out_(out), live_(live) {}
+
+  void on_progress(const acquisition::Progress& p) override;
+  void on_step_recorded(const acquisition::StepResult& s) override;
+  void on_prediction(int step_index, const acquisition::PredictedStep& p) override;
+  void on_event(const db::EventRecord& e) override;
+
+ private:
+  void line(const std::string& text);  // caller holds mu_
+  std::ostream& out_;
+  bool live_;
+  std::mutex mu_;
+  bool status_shown_ = false;
+  std::chrono::steady_clock::time_point last_status_{};
+};
+
+/// Blocks SIGINT and SIGTERM in the calling thread (and so in every thread it starts later) and
+/// turns them into engine.abort() from a watcher thread, so Ctrl-C retracts the pin and keeps
+/// the data. Restores the signal mask when destroyed.
+class AbortOnSignal {
+ public:
+  explicit AbortOnSignal(std::ostream& err);
+  ~AbortOnSignal();
+  void attach(acquisition::Engine* engine);
+
+ private:
+  struct Impl;
+  Impl* impl_;
+};
+
+}  // namespace tocd::cli
