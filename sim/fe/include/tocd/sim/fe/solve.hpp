@@ -1,0 +1,27 @@
+#pragma once
+
+#include <filesystem>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "tocd/sim/fe/model.hpp"
+#include "tocd/sim/fe/result.hpp"
+
+namespace tocd::sim::fe {
+
+/// Quasi-static, displacement-controlled pin compression. Displacements (mm, pin travel from
+/// first touch) must be positive, ascending and below the thickness; one FeStepResult per
+/// requested value. Throws FeError on bad input; a solve that cannot go on (no convergence
+/// at the smallest increment, an element about to invert) returns complete = false with the
+/// steps reached and a stop_reason saying where and why it stopped.
+FeResult solve(const FeModel& model, const std::vector<double>& displacements_mm);
+
+/// JSON summary (docs/fe.md): model, per-step force, areas, iterations, outlines.
+nlohmann::json to_json(const FeResult& result, bool with_geometry = true);
+
+/// VTK XML unstructured grid of one step: deformed quads, point displacement, cell
+/// min_log_strain, J and compressed flag. Throws tocd::Error when it cannot be written.
+void write_vtu(const FeStepResult& step, const std::filesystem::path& path);
+
+}  // namespace tocd::sim::fe

@@ -1,0 +1,74 @@
+#include "tocd/sim/fe/model.hpp"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+namespace tocd::sim::fe {
+
+Kinematics parse_kinematics(const std::string& s) {
+  if (s == "axi" || s == "axisymmetric") return Kinematics::axisymmetric;
+  if (s == "plane-strain") return Kinematics::plane_strain;
+  if (s == "plane-stress") return Kinematics::plane_stress;
+  throw FeError(fmt::format("unknown kinematics '{}' (use axi, plane-strain or plane-stress)", s));
+}
+
+Bottom parse_bottom(const std::string& s) {
+  if (s == "bonded") return Bottom::bonded;
+  if (s == "sliding") return Bottom::sliding;
+  throw FeError(fmt::format("unknown bottom condition '{}' (use bonded or sliding)", s));
+}
+
+std::string to_string(Kinematics k) {
+  switch (k) {
+    case Kinematics::axisymmetric:
+      return "axisymmetric";
+    case Kinematics::plane_strain:
+      return "plane-strain";
+    case Kinematics::plane_stress:
+      return "plane-stress";
+  }
+  return "?";
+}
+
+std::string to_string(Bottom b) {
+  return b == Bottom::bonded ? "bonded" : "sliding";
+}
+
+FeModel FeModel::published_default() {
+  FeModel m;
+  m.material = tocd::sim::material::OgdenParameters::published_skin();
+  return m;
+}
+
+void FeModel::validate() const {
+  auto positive = [](const char* name, double v) {
+    if (!(v > 0) || !std::isfinite(v))
+      throw FeError(fmt::format("FE model: {} = {} must be positive", name, v));
+  };
+  positive("thickness_mm", thickness_mm);
+  positive("outer_radius_mm", outer_radius_mm);
+  positive("pin_radius_mm", pin_radius_mm);
+  positive("mesh_refinement", mesh_refinement);
+  positive("depth_mm", depth_mm);
+  if (mesh_refinement > 16)
+    throw FeError(fmt::format("FE model: mesh_refinement = {} is above 16", mesh_refinement));
+  if (pin_radius_mm >= outer_radius_mm)
+    throw FeError(fmt::format("FE model: pin radius {} mm must be smaller than the outer radius {} mm",
+                              pin_radius_mm, outer_radius_mm));
+  try {
+    material.validate();
+  } catch (const tocd::Error& e) {
+    throw FeError(fmt::format("FE model: {}", e.what()));
+  }
+  if (material.D.empty() || material.D[0] <= 0)
+    throw FeError(
+        "FE model: the material needs a bulk modulus (D_1 > 0); a fully incompressible law is not supported");
+  if (!(solver.min_step_mm > 0) || !(solver.initial_step_mm >= solver.min_step_mm) ||
+      !(solver.max_step_mm >= solver.initial_step_mm))
+    throw FeError("FE model: solver steps must satisfy 0 < min_step <= initial_step <= max_step");
+  if (solver.max_newton_iterations < 2) throw FeError("FE model: max_newton_iterations must be at least 2");
+  if (!(solver.penalty_factor > 0)) throw FeError("FE model: penalty_factor must be positive");
+}
+
+}  // namespace tocd::sim::fe

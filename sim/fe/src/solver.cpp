@@ -1,0 +1,227 @@
+// Displacement-controlled Newton solve of the pin-compression problem (see docs/fe.md).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseLU>
+#include <fmt/format.h>
+
+#include "assembly.hpp"
+#include "mesh.hpp"
+#include "step_output.hpp"
+#include "tocd/sim/fe/solve.hpp"
+#include "tocd/sim/material/fit.hpp"
+#include "tocd/sim/material/hyperelastic.hpp"
+
+namespace tocd::sim::fe {
+
+namespace {
+
+using Eigen::VectorXd;
+
+class Solver {
+ public:
+  Solver(const FeModel& model, const tocd::sim::material::HyperelasticLaw& law)
+      : model_(model), asm_(model, make_reference_mesh(model), law), law_(law) {
+    u_ = VectorXd::Zero(asm_.dofs());
+    asm_.evaluate(u_, model.thickness_mm, true, ev_);
+    ldlt_.analyzePattern(asm_.stiffness());
+  }
+
+  /// One load increment to pin displacement d; on failure the state is restored.
+  bool increment(double d, double dd_prev, double dd, int& iterations, std::string& why) {
+    const VectorXd u0 = u_;
+    const std::vector<double> lam0 = asm_.multiplier;
+    const Evaluation ev0 = ev_;
+    // Penalty from the current (not initial) nodal stiffness of the skin.
+    for (std::size_t t = 0; t < asm_.penalty.size(); ++t)
+      asm_.penalty[t] = model_.solver.penalty_factor * std::max(ev_.top_stiffness[t], 1e-30);
+    // Secant predictor from the last two converged states.
+    const double tip = model_.thickness_mm - d;
+    bool predicted = false;
+    if (dd_prev > 0 && u_prev_.size() == u_.size()) {
+      const VectorXd up = u_ + (dd / dd_prev) * (u_ - u_prev_);
+      Evaluation e;
+      asm_.evaluate(up, tip, true, e);
+      if (e.valid) {
+        u_ = up;
+        ev_ = std::move(e);
+        predicted = true;
+      }
+    }
+    if (!predicted) asm_.evaluate(u_, tip, true, ev_);
+    const double tol_pen = std::max(model_.solver.penetration_tolerance * d, 1e-9 * model_.thickness_mm);
+    bool ok = ev_.valid;
+    for (int aug = 0; ok && aug <= model_.solver.max_augmentations; ++aug) {
+      ok = newton(tip, iterations, why);
+      if (!ok || ev_.max_penetration <= tol_pen || aug == model_.solver.max_augmentations) break;
+      for (std::size_t t = 0; t < asm_.multiplier.size(); ++t) asm_.multiplier[t] = ev_.contact_force[t];
+      asm_.evaluate(u_, tip, true, ev_);
+    }
+    if (!ok) {
+      u_ = u0;
+      asm_.multiplier = lam0;
+      ev_ = ev0;
+      return false;
+    }
+    u_prev_ = u0;
+    return true;
+  }
+
+  const VectorXd& displacement() const { return u_; }
+  const Evaluation& evaluation() const { return ev_; }
+  Assembly& assembly() { return asm_; }
+
+ private:
+  bool newton(double tip, int& iterations, std::string& why) {
+    const double floor = 1e-12 * law_.shear_modulus() * model_.thickness_mm * model_.thickness_mm;
+    for (int it = 0; it < model_.solver.max_newton_iterations; ++it) {
+      if (ev_.residual_norm <= model_.solver.residual_tolerance * std::max(ev_.internal_force_norm, floor))
+        return true;
+      ++iterations;
+      auto& K = asm_.stiffness();
+      ldlt_.factorize(K);
+      VectorXd du;
+      if (ldlt_.info() == Eigen::Success) du = ldlt_.solve(-ev_.residual);
+      if (ldlt_.info() != Eigen::Success || !du.allFinite() || ev_.residual.dot(du) >= 0) {
+        Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(K);  // indefinite or singular: pivoting solve
+        if (lu.info() != Eigen::Success) {
+          why = "singular stiffness";
+          return false;
+        }
+        du = lu.solve(-ev_.residual);
+      }
+      const double slope = ev_.residual.dot(du);
+      if (!du.allFinite() || slope >= 0) {
+        why = "no descent direction";
+        return false;
+      }
+      // Line search on the total energy; a trial that inverts an element is never accepted.
+      double s = 1;
+      bool accepted = false;
+      VectorXd full = VectorXd::Zero(u_.size());
+      const auto& eq = asm_.equation();
+      for (int ls = 0; ls < 12 && !accepted; ++ls) {
+        for (int d = 0; d < asm_.dofs(); ++d) full[d] = eq[d] >= 0 ? u_[d] + s * du[eq[d]] : u_[d];
+        Evaluation e;
+        asm_.evaluate(full, tip, true, e);
+        if (e.valid) {
+          const double roundoff = 1e-11 * std::abs(ev_.energy);
+          if (e.energy <= ev_.energy + 1e-4 * s * slope + roundoff || e.residual_norm < ev_.residual_norm) {
+            u_ = full;
+            ev_ = std::move(e);
+            accepted = true;
+            break;
+          }
+          // Quadratic model of the energy along the direction, kept within [0.1 s, 0.5 s].
+          const double denom = 2 * (e.energy - ev_.energy - slope * s);
+          const double snew = denom > 0 ? -slope * s * s / denom : 0.5 * s;
+          s = std::clamp(snew, 0.1 * s, 0.5 * s);
+        } else {
+          s *= 0.5;  // an element would invert: shorten the step
+        }
+      }
+      if (!accepted) {
+        why = "line search found no admissible step (elements would invert)";
+        return false;
+      }
+    }
+    if (ev_.residual_norm <= model_.solver.residual_tolerance * std::max(ev_.internal_force_norm, floor))
+      return true;
+    why = fmt::format("no convergence in {} Newton iterations (residual {:.2e} of force scale {:.2e})",
+                      model_.solver.max_newton_iterations, ev_.residual_norm, ev_.internal_force_norm);
+    return false;
+  }
+
+  const FeModel& model_;
+  Assembly asm_;
+  const tocd::sim::material::HyperelasticLaw& law_;
+  VectorXd u_, u_prev_;
+  Evaluation ev_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt_;
+};
+
+void check_inputs(const FeModel& model, const std::vector<double>& d) {
+  model.validate();
+  if (d.empty()) throw FeError("FE solve: no displacements requested");
+  for (std::size_t k = 0; k < d.size(); ++k) {
+    if (!(d[k] > 0) || !std::isfinite(d[k]))
+      throw FeError(fmt::format("FE solve: displacement {} mm must be positive", d[k]));
+    if (k > 0 && !(d[k] > d[k - 1]))
+      throw FeError(
+          fmt::format("FE solve: displacements must be ascending ({} mm after {} mm)", d[k], d[k - 1]));
+    if (d[k] >= model.thickness_mm)
+      throw FeError(fmt::format("FE solve: displacement {} mm reaches or passes the slab (thickness {} mm)",
+                                d[k], model.thickness_mm));
+  }
+}
+
+}  // namespace
+
+FeResult solve(const FeModel& model, const std::vector<double>& displacements_mm) {
+  check_inputs(model, displacements_mm);
+  const auto t0 = std::chrono::steady_clock::now();
+  const tocd::sim::material::OgdenLaw law(model.material);
+  // Drucker stability over the stretches the requested compression can reach (and their
+  // inverses, met laterally): an unstable law would give a meaningless answer.
+  const double lmin = std::clamp(1 - 2 * displacements_mm.back() / model.thickness_mm, 0.15, 0.9);
+  const auto stab = tocd::sim::material::check_stability(law, lmin, 1 / lmin);
+  if (!stab.stable)
+    throw FeError(fmt::format(
+        "FE solve: the material is unstable (Drucker) within the stretch range [{:.3g}, {:.3g}]: {}", lmin,
+        1 / lmin, stab.first_failure));
+
+  FeResult res;
+  res.model = model;
+  Solver solver(model, law);
+  const auto& sv = model.solver;
+  double d = 0, step = std::min(sv.initial_step_mm, displacements_mm.front()), dd_prev = 0;
+  int iters_since = 0, incs_since = 0;
+  std::size_t next = 0;
+  while (next < displacements_mm.size()) {
+    const double target = displacements_mm[next];
+    double dd = std::min(step, target - d);
+    if (target - d - dd < 0.25 * dd) dd = target - d;  // no sliver increment before a target
+    int iters = 0;
+    std::string why;
+    const bool ok = solver.increment(d + dd, dd_prev, dd, iters, why);
+    iters_since += iters;
+    res.total_newton_iterations += iters;
+    if (!ok) {
+      step = 0.5 * dd;
+      if (step < sv.min_step_mm) {
+        res.complete = false;
+        res.stop_reason = fmt::format(
+            "stopped at {:.4g} mm (last converged; {:.4g} mm requested): {} at {:.4g} mm with the smallest "
+            "increment",
+            d, target, why, d + dd);
+        break;
+      }
+      continue;
+    }
+    d = (dd == target - d) ? target : d + dd;
+    dd_prev = dd;
+    ++incs_since;
+    ++res.total_load_increments;
+    if (iters <= 5)
+      step = std::min(sv.max_step_mm, 1.5 * dd);
+    else if (iters >= 12)
+      step = std::max(sv.min_step_mm, 0.6 * dd);
+    else
+      step = dd;
+    if (d == target) {
+      res.steps.push_back(
+          make_step_result(model, law, solver.assembly(), solver.displacement(), solver.evaluation(), d));
+      res.steps.back().newton_iterations = iters_since;
+      res.steps.back().load_increments = incs_since;
+      iters_since = incs_since = 0;
+      ++next;
+    }
+  }
+  res.complete = next == displacements_mm.size();
+  res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+}  // namespace tocd::sim::fe

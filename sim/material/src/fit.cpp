@@ -1,0 +1,335 @@
+#include "tocd/sim/material/fit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
+
+#include "tocd/sim/material/hyperelastic.hpp"
+
+namespace tocd::sim::material {
+
+FitModel parse_fit_model(const std::string& name) {
+  if (name == "ogden1") return FitModel::ogden1;
+  if (name == "ogden2") return FitModel::ogden2;
+  if (name == "ogden3") return FitModel::ogden3;
+  if (name == "neo-hookean") return FitModel::neo_hookean;
+  if (name == "mooney-rivlin") return FitModel::mooney_rivlin;
+  if (name == "yeoh") return FitModel::yeoh;
+  throw MaterialError(fmt::format(
+      "unknown material model '{}' (use ogden1, ogden2, ogden3, neo-hookean, mooney-rivlin or yeoh)", name));
+}
+
+std::string to_string(FitModel m) {
+  switch (m) {
+    case FitModel::ogden1:
+      return "ogden1";
+    case FitModel::ogden2:
+      return "ogden2";
+    case FitModel::ogden3:
+      return "ogden3";
+    case FitModel::neo_hookean:
+      return "neo-hookean";
+    case FitModel::mooney_rivlin:
+      return "mooney-rivlin";
+    case FitModel::yeoh:
+      return "yeoh";
+  }
+  return "?";
+}
+
+double ogden_uniaxial_nominal_stress(const OgdenParameters& p, double lambda) {
+  // W(lambda, lambda^-1/2, lambda^-1/2) differentiated: sum (2 mu / alpha)(l^(a-1) - l^(-a/2-1)).
+  double P = 0;
+  for (std::size_t i = 0; i < p.mu.size(); ++i) {
+    const double a = p.alpha[i];
+    P += 2 * p.mu[i] / a * (std::pow(lambda, a - 1) - std::pow(lambda, -a / 2 - 1));
+  }
+  return P;
+}
+
+namespace {
+
+using Eigen::VectorXd;
+
+int ogden_terms(FitModel m) {
+  switch (m) {
+    case FitModel::ogden1:
+      return 1;
+    case FitModel::ogden2:
+      return 2;
+    case FitModel::ogden3:
+      return 3;
+    default:
+      return 0;
+  }
+}
+
+int parameter_count(FitModel m) {
+  if (int n = ogden_terms(m)) return 2 * n;
+  return m == FitModel::neo_hookean ? 1 : m == FitModel::mooney_rivlin ? 2 : 3;
+}
+
+// Ogden form of the parameter vector (Yeoh has none).
+OgdenParameters to_ogden(FitModel m, const VectorXd& p) {
+  OgdenParameters o;
+  if (int n = ogden_terms(m)) {
+    for (int i = 0; i < n; ++i) {
+      o.mu.push_back(p[2 * i]);
+      o.alpha.push_back(p[2 * i + 1]);
+    }
+  } else if (m == FitModel::neo_hookean) {
+    o.mu = {2 * p[0]};
+    o.alpha = {2.0};
+  } else if (m == FitModel::mooney_rivlin) {
+    o.mu = {2 * p[0], 2 * p[1]};
+    o.alpha = {2.0, -2.0};
+  }
+  return o;
+}
+
+// Nominal uniaxial stress of the incompressible model at stretch lambda.
+double model_stress(FitModel m, const VectorXd& p, double lambda) {
+  if (m == FitModel::yeoh) {
+    const double e = lambda * lambda + 2 / lambda - 3;
+    return 2 * (lambda - 1 / (lambda * lambda)) * (p[0] + 2 * p[1] * e + 3 * p[2] * e * e);
+  }
+  return ogden_uniaxial_nominal_stress(to_ogden(m, p), lambda);
+}
+
+struct Problem {
+  FitModel model;
+  std::vector<double> lambda, target, weight;  // residual_k = weight_k (model - target)
+  VectorXd residual(const VectorXd& p) const {
+    VectorXd r(lambda.size());
+    for (std::size_t k = 0; k < lambda.size(); ++k)
+      r[k] = weight[k] * (model_stress(model, p, lambda[k]) - target[k]);
+    return r;
+  }
+  bool admissible(const VectorXd& p) const {
+    if (!p.allFinite()) return false;
+    for (int i = 0; i < ogden_terms(model); ++i)
+      if (std::abs(p[2 * i + 1]) < 1e-3 || std::abs(p[2 * i + 1]) > 60) return false;
+    return true;
+  }
+};
+
+struct LmOutcome {
+  VectorXd p;
+  double cost = std::numeric_limits<double>::infinity();
+  int iterations = 0;
+  bool converged = false;
+};
+
+LmOutcome levenberg_marquardt(const Problem& pr, VectorXd p, int max_iterations) {
+  LmOutcome out;
+  if (!pr.admissible(p)) return out;
+  VectorXd r = pr.residual(p);
+  if (!r.allFinite()) return out;
+  double cost = r.squaredNorm(), damping = 1e-3;
+  const int n = static_cast<int>(p.size());
+  int it = 0;
+  for (; it < max_iterations; ++it) {
+    Eigen::MatrixXd Jm(r.size(), n);
+    for (int j = 0; j < n; ++j) {  // central differences: the models are cheap and smooth
+      const double h = 1e-6 * std::max(std::abs(p[j]), 1e-4);
+      VectorXd pp = p, pm = p;
+      pp[j] += h;
+      pm[j] -= h;
+      Jm.col(j) = (pr.residual(pp) - pr.residual(pm)) / (2 * h);
+    }
+    const Eigen::MatrixXd A = Jm.transpose() * Jm;
+    const VectorXd g = Jm.transpose() * r;
+    bool improved = false;
+    for (int tries = 0; tries < 30 && !improved; ++tries) {
+      Eigen::MatrixXd Ad = A;
+      Ad.diagonal() += damping * A.diagonal().cwiseMax(1e-30);  // Marquardt scaling
+      const VectorXd step = Ad.ldlt().solve(-g);
+      const VectorXd trial = p + step;
+      if (pr.admissible(trial)) {
+        const VectorXd rt = pr.residual(trial);
+        const double ct = rt.squaredNorm();
+        if (std::isfinite(ct) && ct < cost) {
+          const double rel = (cost - ct) / std::max(cost, 1e-300);
+          p = trial;
+          r = rt;
+          cost = ct;
+          damping = std::max(damping / 3, 1e-12);
+          improved = true;
+          if (rel < 1e-12 || step.norm() < 1e-12 * (1 + p.norm())) {
+            out.converged = true;
+            it = max_iterations;  // leave the outer loop
+          }
+          break;
+        }
+      }
+      damping *= 4;
+    }
+    if (!improved) {
+      out.converged = true;  // no descent left at any damping: a (local) minimum
+      break;
+    }
+  }
+  out.p = p;
+  out.cost = cost;
+  out.iterations = std::min(it, max_iterations);
+  return out;
+}
+
+// Starting points: for Ogden models the mu_i solve a linear least-squares problem once the
+// alpha_i are fixed, so each start is a set of alphas with matching mus.
+std::vector<VectorXd> starting_points(const Problem& pr) {
+  std::vector<VectorXd> starts;
+  const int N = ogden_terms(pr.model);
+  if (N == 0) {
+    // Linear in its coefficients: one linear solve is already the optimum.
+    const int n = parameter_count(pr.model);
+    Eigen::MatrixXd A(pr.lambda.size(), n);
+    for (int j = 0; j < n; ++j) {
+      VectorXd e = VectorXd::Zero(n);
+      e[j] = 1;
+      for (std::size_t k = 0; k < pr.lambda.size(); ++k)
+        A(k, j) = pr.weight[k] * model_stress(pr.model, e, pr.lambda[k]);
+    }
+    VectorXd b(pr.lambda.size());
+    for (std::size_t k = 0; k < pr.lambda.size(); ++k) b[k] = pr.weight[k] * pr.target[k];
+    starts.push_back(A.colPivHouseholderQr().solve(b));
+    return starts;
+  }
+  const std::vector<double> grid = {-12, -8, -5, -3, -1.5, 1.5, 3, 5, 8, 12};
+  std::vector<int> idx(N);
+  auto add = [&](const std::vector<double>& alphas) {
+    Eigen::MatrixXd A(pr.lambda.size(), N);
+    for (int j = 0; j < N; ++j)
+      for (std::size_t k = 0; k < pr.lambda.size(); ++k) {
+        OgdenParameters one{{1.0}, {alphas[j]}, {}};
+        A(k, j) = pr.weight[k] * ogden_uniaxial_nominal_stress(one, pr.lambda[k]);
+      }
+    VectorXd b(pr.lambda.size());
+    for (std::size_t k = 0; k < pr.lambda.size(); ++k) b[k] = pr.weight[k] * pr.target[k];
+    const VectorXd mu = A.colPivHouseholderQr().solve(b);
+    VectorXd p(2 * N);
+    for (int j = 0; j < N; ++j) {
+      p[2 * j] = mu[j];
+      p[2 * j + 1] = alphas[j];
+    }
+    if (p.allFinite()) starts.push_back(p);
+  };
+  const int G = static_cast<int>(grid.size());
+  for (int a = 0; a < G; ++a) {
+    if (N == 1) {
+      add({grid[a]});
+      continue;
+    }
+    for (int b = a + 1; b < G; ++b) {
+      if (N == 2) {
+        add({grid[a], grid[b]});
+        continue;
+      }
+      for (int c = b + 1; c < G; ++c) add({grid[a], grid[b], grid[c]});
+    }
+  }
+  return starts;
+}
+
+}  // namespace
+
+FitResult fit_uniaxial(const std::vector<double>& strain, const std::vector<double>& stress, FitModel model,
+                       const FitOptions& options) {
+  if (strain.size() != stress.size())
+    throw MaterialError(
+        fmt::format("fit: {} strain values but {} stress values", strain.size(), stress.size()));
+  const int n = parameter_count(model);
+  if (static_cast<int>(strain.size()) < n + 1)
+    throw MaterialError(
+        fmt::format("fit: {} needs at least {} data points, got {}", to_string(model), n + 1, strain.size()));
+  if (!(options.poisson_ratio > -1.0 && options.poisson_ratio <= 0.5))
+    throw MaterialError(fmt::format("fit: Poisson's ratio {} outside (-1, 0.5]", options.poisson_ratio));
+  Problem pr;
+  pr.model = model;
+  double smax = 0;
+  for (std::size_t k = 0; k < strain.size(); ++k) {
+    const double e = strain[k], s = stress[k];
+    if (!std::isfinite(e) || !std::isfinite(s))
+      throw MaterialError(fmt::format("fit: data point {} is not finite", k + 1));
+    if (options.compression && (e < 0 || e >= 1))
+      throw MaterialError(fmt::format(
+          "fit: compression strain {} at point {} outside [0, 1) (give magnitudes: displacement / thickness)",
+          e, k + 1));
+    if (!options.compression && (e <= -1 || e >= 10))
+      throw MaterialError(fmt::format("fit: nominal strain {} at point {} outside (-1, 10)", e, k + 1));
+    pr.lambda.push_back(options.compression ? 1 - e : 1 + e);
+    pr.target.push_back(options.compression ? -s : s);
+    smax = std::max(smax, std::abs(s));
+  }
+  if (!(smax > 0)) throw MaterialError("fit: every stress value is zero");
+  // Relative residuals (as Abaqus fits test data), with a floor so near-zero points do not dominate.
+  for (double t : pr.target) pr.weight.push_back(1.0 / std::max(std::abs(t), 1e-2 * smax));
+
+  LmOutcome best;
+  for (const VectorXd& p0 : starting_points(pr)) {
+    LmOutcome o = levenberg_marquardt(pr, p0, options.max_iterations);
+    if (o.cost < best.cost) best = o;
+  }
+  if (!std::isfinite(best.cost))
+    throw MaterialError(fmt::format("fit: {} found no admissible parameters", to_string(model)));
+
+  FitResult res;
+  res.model = model;
+  res.iterations = best.iterations;
+  res.converged = best.converged;
+  res.values.assign(best.p.data(), best.p.data() + best.p.size());
+  if (int N = ogden_terms(model)) {
+    for (int i = 0; i < N; ++i) {
+      res.names.push_back(fmt::format("mu{}", i + 1));
+      res.names.push_back(fmt::format("alpha{}", i + 1));
+    }
+  } else if (model == FitModel::neo_hookean) {
+    res.names = {"C10"};
+  } else if (model == FitModel::mooney_rivlin) {
+    res.names = {"C10", "C01"};
+  } else {
+    res.names = {"C10", "C20", "C30"};
+  }
+  const double mu0 =
+      model == FitModel::yeoh ? 2 * best.p[0] : to_ogden(model, best.p).initial_shear_modulus();
+  const double nu = options.poisson_ratio;
+  const double D1 = nu >= 0.5 ? 0.0 : 3 * (1 - 2 * nu) / (mu0 * (1 + nu));  // = 2 / K0
+  res.D = {D1};
+  res.has_ogden_form = model != FitModel::yeoh;
+  if (res.has_ogden_form) {
+    res.ogden = to_ogden(model, best.p);
+    res.ogden.D = {D1};
+  }
+  double ss_res = 0, ss_tot = 0, mean = 0;
+  for (double s : stress) mean += s;
+  mean /= static_cast<double>(stress.size());
+  for (std::size_t k = 0; k < stress.size(); ++k) {
+    const double m = model_stress(model, best.p, pr.lambda[k]);
+    const double fitted = options.compression ? -m : m;
+    res.fitted_stress.push_back(fitted);
+    res.residuals.push_back(fitted - stress[k]);
+    ss_res += (fitted - stress[k]) * (fitted - stress[k]);
+    ss_tot += (stress[k] - mean) * (stress[k] - mean);
+    res.max_abs_residual_MPa = std::max(res.max_abs_residual_MPa, std::abs(fitted - stress[k]));
+  }
+  res.rms_MPa = std::sqrt(ss_res / static_cast<double>(stress.size()));
+  res.r_squared = ss_tot > 0 ? 1 - ss_res / ss_tot : 1.0;
+  const auto [lo, hi] = std::minmax_element(pr.lambda.begin(), pr.lambda.end());
+  const double lmin = std::min(*lo, 1 / *hi), lmax = std::max(*hi, 1 / *lo);
+  if (mu0 > 0) {
+    std::unique_ptr<HyperelasticLaw> law =
+        model == FitModel::yeoh ? make_yeoh(best.p[0], best.p[1], best.p[2], 0.0) : make_ogden(res.ogden);
+    res.stability = check_stability(*law, lmin, lmax);
+  } else {
+    res.stability.stable = false;
+    res.stability.lambda_min = lmin;
+    res.stability.lambda_max = lmax;
+    res.stability.first_failure = fmt::format("initial shear modulus {} MPa is not positive", mu0);
+  }
+  return res;
+}
+
+}  // namespace tocd::sim::material

@@ -1,0 +1,107 @@
+#pragma once
+
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <future>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "tocd/sim/material/ogden.hpp"
+#include "tocd/sim/mc/optics.hpp"
+#include "tocd/sim/study/study_optics.hpp"
+
+namespace tocd::sim::study {
+
+/// The published skin material (FeModel::published_default().material).
+tocd::sim::material::OgdenParameters published_skin_material();
+
+/// One compression step to simulate: FE (pin pushed `displacement_mm` into a skin slab of
+/// `thickness_mm`), composite tet mesh, photon Monte Carlo. See docs/study.md.
+struct PredictionRequest {
+  double displacement_mm = 0;
+  double thickness_mm = 2.5;
+  tocd::sim::material::OgdenParameters material = published_skin_material();
+  std::string optics_model = "threshold";  ///< "threshold" | "graded"
+  std::uint64_t photons = 100000;
+  std::uint64_t seed = 1;
+  std::string mesh_preset = "fast";  ///< "fast" | "paper"
+  int threads = 0;                   ///< Monte Carlo threads, 0 = all cores; results do not depend on it
+
+  // Beyond the contract (all part of the reproducing config):
+  bool baseline = false;  ///< glass only: pin tip on the slide, no skin (simulation 0)
+  /// Optics of the compressed region (threshold model): every skin element with minimum
+  /// principal log strain <= -0.5. Default: the most cleared state of the study.
+  mc::RegionOptics compressed_optics = cleared_skin_optics();
+  GradedOptics graded;     ///< used when optics_model == "graded"
+  int batches = 20;        ///< Monte Carlo batches for standard errors
+  double max_edge_mm = 0;  ///< > 0 overrides the preset's element size
+  double pin_length_mm = 3.3, pin_radius_mm = 1.5;
+  double slide_size_mm = 12.5, slide_thickness_mm = 1.0;
+  double fe_refinement = 1.0;  ///< FeModel::mesh_refinement
+  /// When not empty: per-tet fluence .vtu and two slice CSVs go to this folder, named
+  /// `fluence_stem` (default "prediction"). Not part of the config.
+  std::string fluence_dir, fluence_stem;
+};
+
+struct Prediction {
+  double T = 0, T_stderr = 0, side_loss = 0;
+  double fe_seconds = 0, mesh_seconds = 0, mc_seconds = 0;
+  nlohmann::json config;  ///< everything needed to reproduce it (request_from_config reads it back)
+  nlohmann::json fe_summary, mesh_stats;
+
+  double side_loss_stderr = 0, reflectance = 0, absorbed = 0, specular = 0;
+  std::size_t tets = 0;
+  bool fe_cached = false, mesh_cached = false;  ///< taken from the predictor's caches
+  nlohmann::json mc;                            ///< the Monte Carlo summary (mc::to_json)
+  nlohmann::json fluence;                       ///< paths of the fluence files, when written
+};
+
+/// Canonical config of a request (threads and fluence output excluded: they do not change
+/// the answer). Throws tocd::ConfigError on a bad request (names the field).
+nlohmann::json to_config(const PredictionRequest& request);
+/// The request a config describes; missing keys take their defaults. Throws ConfigError.
+PredictionRequest request_from_config(const nlohmann::json& config);
+/// Checks ranges (displacement 0 <= d < thickness, photons > 0, known optics model and mesh
+/// preset ...). Throws tocd::ConfigError naming the field.
+void validate(const PredictionRequest& request);
+
+/// Predicts transmission for compression steps. Caches FE solutions, composite meshes and
+/// prepared Monte Carlo meshes keyed by their inputs, so a repeated step (or the same step
+/// with other optics) skips FE and meshing. Thread contract: every member may be called from
+/// any thread at once; concurrent requests for the same FE solution or mesh share one
+/// computation. submit() queues the request on the predictor's own worker threads and
+/// returns at once. The destructor finishes the queued requests.
+class Predictor {
+ public:
+  explicit Predictor(int worker_threads = 1);
+  ~Predictor();
+  Predictor(const Predictor&) = delete;
+  Predictor& operator=(const Predictor&) = delete;
+
+  Prediction predict(const PredictionRequest& r);              // blocking
+  std::future<Prediction> submit(const PredictionRequest& r);  // runs in the background
+
+  struct CacheCounts {
+    std::size_t fe_hits = 0, fe_misses = 0, mesh_hits = 0, mesh_misses = 0;
+  };
+  CacheCounts cache_counts() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::mutex queue_mutex_;
+  std::condition_variable queue_cv_;
+  std::deque<std::packaged_task<Prediction()>> queue_;
+  bool stopping_ = false;
+  std::vector<std::thread> workers_;
+  void work();
+};
+
+}  // namespace tocd::sim::study

@@ -1,0 +1,309 @@
+// The per-step pipeline: FE (cached) -> composite tet mesh (cached) -> prepared Monte Carlo
+// mesh (cached per optics model) -> photon Monte Carlo.
+#include "tocd/sim/study/predictor.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "material_json.hpp"
+#include "tocd/core/error.hpp"
+#include "tocd/sim/fe/solve.hpp"
+#include "tocd/sim/geometry/composite.hpp"
+#include "tocd/sim/mc/output.hpp"
+#include "tocd/sim/mc/prepared_mesh.hpp"
+#include "tocd/sim/mc/run.hpp"
+#include "tocd/sim/mc/source.hpp"
+#include "tocd/sim/study/fluence_slices.hpp"
+#include "tocd/sim/study/keyed_cache.hpp"
+#include "tocd/sim/study/profile_adapter.hpp"
+
+namespace tocd::sim::study {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+struct FeEntry {
+  fe::FeStepResult step;
+  double seconds = 0;
+};
+
+struct MeshEntry {
+  geometry::CompositeMesh composite;
+  std::shared_ptr<const FeEntry> fe;  ///< null for the baseline and the flat skin
+  double seconds = 0;
+};
+
+struct PreparedEntry {
+  mc::PreparedMesh prepared;
+  std::shared_ptr<const MeshEntry> mesh;
+  std::vector<std::size_t> graded_levels;  ///< tets per graded level (graded model only)
+  std::size_t pin_top_faces = 0;
+  double seconds = 0;
+};
+
+fe::FeModel fe_model(const PredictionRequest& r) {
+  fe::FeModel m = fe::FeModel::published_default();
+  m.thickness_mm = r.thickness_mm;
+  m.outer_radius_mm = 0.5 * r.slide_size_mm;
+  m.pin_radius_mm = r.pin_radius_mm;
+  m.material = r.material;
+  m.mesh_refinement = r.fe_refinement;
+  return m;
+}
+
+std::string fe_key(const PredictionRequest& r) {
+  const nlohmann::json j = {{"d", r.displacement_mm},
+                            {"h", r.thickness_mm},
+                            {"R", 0.5 * r.slide_size_mm},
+                            {"pin", r.pin_radius_mm},
+                            {"material", material_to_json(r.material)},
+                            {"refine", r.fe_refinement}};
+  return j.dump();
+}
+
+bool needs_fe(const PredictionRequest& r) {
+  return !r.baseline && r.displacement_mm > 0.0;
+}
+
+std::string mesh_key(const PredictionRequest& r) {
+  nlohmann::json j = {{"baseline", r.baseline},
+                      {"preset", r.mesh_preset},
+                      {"max_edge", r.max_edge_mm},
+                      {"pin_length", r.pin_length_mm},
+                      {"pin_radius", r.pin_radius_mm},
+                      {"slide", r.slide_size_mm},
+                      {"slide_thickness", r.slide_thickness_mm}};
+  if (!r.baseline) {
+    j["thickness"] = r.thickness_mm;
+    j["displacement"] = r.displacement_mm;
+    if (needs_fe(r)) j["fe"] = fe_key(r);
+  }
+  return j.dump();
+}
+
+std::string prepared_key(const PredictionRequest& r) {
+  nlohmann::json j = {{"mesh", mesh_key(r)}, {"model", r.baseline ? "threshold" : r.optics_model}};
+  if (!r.baseline && r.optics_model == "graded") j["graded"] = to_json(r.graded);
+  return j.dump();
+}
+
+geometry::CompositeSpec composite_spec(const PredictionRequest& r, const geometry::SkinProfile& profile) {
+  geometry::CompositeSpec s;
+  s.slide_size_mm = r.slide_size_mm;
+  s.skin_size_mm = r.slide_size_mm;
+  s.slide_thickness_mm = r.slide_thickness_mm;
+  s.pin_radius_mm = r.pin_radius_mm;
+  s.pin_length_mm = r.pin_length_mm;
+  s.pin_displacement_mm = r.baseline ? 0.0 : r.displacement_mm;
+  s.baseline = r.baseline;
+  s.skin = profile;
+  s.size.preset = r.mesh_preset;
+  s.size.max_edge_mm = r.max_edge_mm;
+  return s;
+}
+
+nlohmann::json mesh_stats(const PreparedEntry& p) {
+  const auto& c = p.mesh->composite;
+  nlohmann::json j;
+  j["tets"] = c.mesh.tets.size();
+  j["nodes"] = c.mesh.nodes.size();
+  j["boundary_faces"] = c.mesh.boundary_faces.size();
+  j["pin_top_faces"] = p.pin_top_faces;
+  j["mesh_seconds"] = c.seconds;
+  j["prepare_seconds"] = p.seconds;
+  auto& regions = j["regions"] = nlohmann::json::array();
+  for (const auto& s : c.regions)
+    regions.push_back({{"region", s.region},
+                       {"tets", s.tets},
+                       {"volume_mm3", s.volume_mm3},
+                       {"expected_volume_mm3", s.expected_volume_mm3}});
+  if (!p.graded_levels.empty()) j["graded_levels_tets"] = p.graded_levels;
+  return j;
+}
+
+}  // namespace
+
+tocd::sim::material::OgdenParameters published_skin_material() {
+  return fe::FeModel::published_default().material;
+}
+
+struct Predictor::Impl {
+  KeyedCache<FeEntry> fe{32};
+  KeyedCache<MeshEntry> meshes{8};
+  KeyedCache<PreparedEntry> prepared{8};
+
+  std::shared_ptr<const FeEntry> solve_fe(const PredictionRequest& r, bool& hit) {
+    auto got = fe.get_or_compute(fe_key(r), [&] {
+      const auto t0 = Clock::now();
+      fe::FeResult res = fe::solve(fe_model(r), {r.displacement_mm});
+      if (!res.complete || res.steps.empty())
+        throw tocd::Error(fmt::format("FE solve to {} mm in {} mm skin stopped: {}", r.displacement_mm,
+                                      r.thickness_mm, res.stop_reason));
+      FeEntry e{res.steps.back(), 0.0};
+      e.seconds = since(t0);
+      return e;
+    });
+    hit = got.hit;
+    return got.value;
+  }
+
+  std::shared_ptr<const MeshEntry> build_mesh(const PredictionRequest& r, bool& fe_hit, bool& mesh_hit) {
+    std::shared_ptr<const FeEntry> fe_entry;
+    fe_hit = true;
+    if (needs_fe(r)) fe_entry = solve_fe(r, fe_hit);
+    auto got = meshes.get_or_compute(mesh_key(r), [&] {
+      const auto t0 = Clock::now();
+      const geometry::SkinProfile profile =
+          fe_entry ? to_skin_profile(fe_entry->step, r.thickness_mm) : flat_skin_profile(r.thickness_mm);
+      MeshEntry m{geometry::build_composite(composite_spec(r, profile)), fe_entry, 0.0};
+      m.seconds = since(t0);
+      return m;
+    });
+    mesh_hit = got.hit;
+    return got.value;
+  }
+
+  std::shared_ptr<const PreparedEntry> prepare(const PredictionRequest& r, bool& fe_hit, bool& mesh_hit) {
+    bool inner_mesh_hit = true;
+    std::shared_ptr<const MeshEntry> mesh_entry;
+    auto got = prepared.get_or_compute(prepared_key(r), [&] {
+      mesh_entry = build_mesh(r, fe_hit, inner_mesh_hit);
+      const auto t0 = Clock::now();
+      mesh::TetMesh m = mesh_entry->composite.mesh;
+      PreparedEntry p;
+      for (const auto& f : m.boundary_faces) p.pin_top_faces += f.marker == geometry::Marker::pin_top ? 1 : 0;
+      if (p.pin_top_faces == 0)
+        throw tocd::Error("composite mesh: no boundary face carries the pin-top marker (the light source)");
+      if (!r.baseline && r.optics_model == "graded") {
+        const FeEntry* f = mesh_entry->fe.get();
+        p.graded_levels = assign_graded_regions(
+            m, r.graded, [f](double rr, double z) { return f ? f->step.min_log_strain_at(rr, z) : 0.0; });
+      }
+      p.prepared = mc::prepare(std::move(m));
+      p.mesh = mesh_entry;
+      p.seconds = since(t0);
+      return p;
+    });
+    mesh_hit = inner_mesh_hit;
+    return got.value;
+  }
+};
+
+Prediction Predictor::predict(const PredictionRequest& r) {
+  Prediction out;
+  out.config = to_config(r);  // validates
+  const auto t_fe = Clock::now();
+  bool fe_hit = true, mesh_hit = true;
+  // FE first (its time is reported apart), then mesh and preparation.
+  std::shared_ptr<const FeEntry> fe_entry;
+  if (needs_fe(r)) fe_entry = impl_->solve_fe(r, fe_hit);
+  out.fe_seconds = since(t_fe);
+  const auto t_mesh = Clock::now();
+  bool ignored = true;
+  const auto prepared = impl_->prepare(r, ignored, mesh_hit);
+  out.mesh_seconds = since(t_mesh);
+  out.fe_cached = fe_hit;
+  out.mesh_cached = mesh_hit;
+
+  if (r.baseline)
+    out.fe_summary = {{"baseline", true}};
+  else if (!fe_entry)
+    out.fe_summary = {{"displacement_mm", 0.0}, {"flat", true}};
+  else {
+    out.fe_summary = summarise(fe_entry->step);
+    out.fe_summary["solve_seconds"] = fe_entry->seconds;
+  }
+  out.fe_summary["cached"] = fe_hit;
+  out.mesh_stats = mesh_stats(*prepared);
+  out.mesh_stats["cached"] = mesh_hit;
+  out.tets = prepared->prepared.mesh.tets.size();
+
+  const mc::Optics optics = (!r.baseline && r.optics_model == "graded")
+                                ? graded_optics(r.graded)
+                                : threshold_optics(r.compressed_optics);
+  mc::Source source;
+  source.kind = mc::Source::Kind::marker;
+  source.marker = geometry::Marker::pin_top;
+  mc::RunSettings s;
+  s.photons = r.photons;
+  s.seed = r.seed;
+  s.batches = r.batches;
+  s.threads = r.threads > 0 ? r.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  s.ambient_n = 1.0;
+  s.tally_per_tet = !r.fluence_dir.empty();
+  const mc::Result res = mc::run(prepared->prepared, optics, source, s);
+  out.mc_seconds = res.seconds;
+  out.T = res.transmittance.mean;
+  out.T_stderr = res.transmittance.se;
+  out.side_loss = res.side_loss.mean;
+  out.side_loss_stderr = res.side_loss.se;
+  out.reflectance = res.reflectance.mean;
+  out.absorbed = res.absorbed.mean;
+  out.specular = res.specular.mean;
+  out.mc = mc::to_json(res);
+  out.mc["source"] = mc::describe(source);
+  out.config["optics"] = nlohmann::json::object();
+  for (const auto& [id, o] : optics.regions) out.config["optics"][std::to_string(id)] = to_json(o);
+
+  if (!r.fluence_dir.empty()) {
+    const double tip_z = r.baseline ? 0.0 : r.thickness_mm - r.displacement_mm;
+    const auto files = write_fluence_files(prepared->prepared, res, tip_z, r.fluence_dir,
+                                           r.fluence_stem.empty() ? "prediction" : r.fluence_stem);
+    out.fluence = {{"vtu", files.vtu.string()},
+                   {"horizontal_csv", files.horizontal_csv.string()},
+                   {"vertical_csv", files.vertical_csv.string()},
+                   {"horizontal_z_mm", tip_z}};
+  }
+  return out;
+}
+
+Predictor::Predictor(int worker_threads) : impl_(std::make_unique<Impl>()) {
+  const int n = std::max(1, worker_threads);
+  for (int i = 0; i < n; ++i) workers_.emplace_back([this] { work(); });
+}
+
+Predictor::~Predictor() {
+  {
+    std::lock_guard lock(queue_mutex_);
+    stopping_ = true;
+  }
+  queue_cv_.notify_all();
+  for (auto& w : workers_) w.join();
+}
+
+std::future<Prediction> Predictor::submit(const PredictionRequest& r) {
+  std::packaged_task<Prediction()> task([this, r] { return predict(r); });
+  auto future = task.get_future();
+  {
+    std::lock_guard lock(queue_mutex_);
+    if (stopping_) throw tocd::Error("predictor is shutting down");
+    queue_.push_back(std::move(task));
+  }
+  queue_cv_.notify_one();
+  return future;
+}
+
+void Predictor::work() {
+  for (;;) {
+    std::packaged_task<Prediction()> task;
+    {
+      std::unique_lock lock(queue_mutex_);
+      queue_cv_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+      if (queue_.empty()) return;  // stopping and drained
+      task = std::move(queue_.front());
+      queue_.pop_front();
+    }
+    task();  // exceptions go into the future
+  }
+}
+
+Predictor::CacheCounts Predictor::cache_counts() const {
+  return {impl_->fe.hits(), impl_->fe.misses(), impl_->meshes.hits(), impl_->meshes.misses()};
+}
+
+}  // namespace tocd::sim::study

@@ -1,0 +1,105 @@
+// PredictionRequest <-> config JSON, and request validation.
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "material_json.hpp"
+#include "tocd/core/error.hpp"
+#include "tocd/sim/geometry/composite.hpp"
+#include "tocd/sim/study/predictor.hpp"
+
+namespace tocd::sim::study {
+namespace {
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw tocd::ConfigError("prediction request: " + what);
+}
+
+}  // namespace
+
+void validate(const PredictionRequest& r) {
+  require(std::isfinite(r.thickness_mm) && r.thickness_mm > 0.0,
+          fmt::format("thickness_mm must be > 0, got {}", r.thickness_mm));
+  require(std::isfinite(r.displacement_mm) && r.displacement_mm >= 0.0,
+          fmt::format("displacement_mm must be >= 0, got {}", r.displacement_mm));
+  require(r.baseline || r.displacement_mm < r.thickness_mm,
+          fmt::format("displacement_mm {} must be below the skin thickness {} mm", r.displacement_mm,
+                      r.thickness_mm));
+  require(r.optics_model == "threshold" || r.optics_model == "graded",
+          fmt::format("optics_model must be 'threshold' or 'graded', got '{}'", r.optics_model));
+  require(r.mesh_preset == "fast" || r.mesh_preset == "paper",
+          fmt::format("mesh_preset must be 'fast' or 'paper', got '{}'", r.mesh_preset));
+  require(r.photons > 0, "photons must be > 0");
+  require(r.batches >= 2, fmt::format("batches must be >= 2, got {}", r.batches));
+  require(r.threads >= 0, fmt::format("threads must be >= 0, got {}", r.threads));
+  require(r.max_edge_mm >= 0.0, fmt::format("max_edge_mm must be >= 0, got {}", r.max_edge_mm));
+  require(r.pin_radius_mm > 0.0 && r.pin_length_mm > r.pin_radius_mm,
+          fmt::format("pin: radius {} mm must be > 0 and below its length {} mm", r.pin_radius_mm,
+                      r.pin_length_mm));
+  require(r.slide_size_mm > 2.0 * r.pin_radius_mm && r.slide_thickness_mm > 0.0,
+          fmt::format("slide {} x {} mm must be wider than the pin", r.slide_size_mm, r.slide_thickness_mm));
+  require(r.fe_refinement > 0.0, fmt::format("fe_refinement must be > 0, got {}", r.fe_refinement));
+  mc::Optics one;
+  one.regions[geometry::Region::compressed] = r.compressed_optics;
+  mc::validate(one, "compressed_optics");
+  (void)graded_optics(r.graded);
+}
+
+nlohmann::json to_config(const PredictionRequest& r) {
+  validate(r);
+  nlohmann::json j;
+  j["kind"] = "tocdlab.prediction";
+  j["version"] = 1;
+  j["displacement_mm"] = r.displacement_mm;
+  j["thickness_mm"] = r.thickness_mm;
+  j["material"] = material_to_json(r.material);
+  j["optics_model"] = r.optics_model;
+  j["photons"] = r.photons;
+  j["seed"] = r.seed;
+  j["mesh_preset"] = r.mesh_preset;
+  j["baseline"] = r.baseline;
+  j["compressed_optics"] = to_json(r.compressed_optics);
+  j["graded"] = to_json(r.graded);
+  j["batches"] = r.batches;
+  j["max_edge_mm"] = r.max_edge_mm;
+  j["pin_length_mm"] = r.pin_length_mm;
+  j["pin_radius_mm"] = r.pin_radius_mm;
+  j["slide_size_mm"] = r.slide_size_mm;
+  j["slide_thickness_mm"] = r.slide_thickness_mm;
+  j["fe_refinement"] = r.fe_refinement;
+  return j;
+}
+
+PredictionRequest request_from_config(const nlohmann::json& j) {
+  if (!j.is_object()) throw tocd::ConfigError("prediction config: expected a JSON object");
+  PredictionRequest r;
+  try {
+    auto num = [&](const char* key, double& v) {
+      if (j.contains(key)) v = j.at(key).get<double>();
+    };
+    num("displacement_mm", r.displacement_mm);
+    num("thickness_mm", r.thickness_mm);
+    if (j.contains("material")) r.material = material_from_json(j.at("material"));
+    if (j.contains("optics_model")) r.optics_model = j.at("optics_model").get<std::string>();
+    if (j.contains("photons")) r.photons = j.at("photons").get<std::uint64_t>();
+    if (j.contains("seed")) r.seed = j.at("seed").get<std::uint64_t>();
+    if (j.contains("mesh_preset")) r.mesh_preset = j.at("mesh_preset").get<std::string>();
+    if (j.contains("baseline")) r.baseline = j.at("baseline").get<bool>();
+    if (j.contains("compressed_optics"))
+      r.compressed_optics = region_optics_from_json(j.at("compressed_optics"));
+    if (j.contains("graded")) r.graded = graded_from_json(j.at("graded"));
+    if (j.contains("batches")) r.batches = j.at("batches").get<int>();
+    num("max_edge_mm", r.max_edge_mm);
+    num("pin_length_mm", r.pin_length_mm);
+    num("pin_radius_mm", r.pin_radius_mm);
+    num("slide_size_mm", r.slide_size_mm);
+    num("slide_thickness_mm", r.slide_thickness_mm);
+    num("fe_refinement", r.fe_refinement);
+  } catch (const nlohmann::json::exception& e) {
+    throw tocd::ConfigError(fmt::format("prediction config: {}", e.what()));
+  }
+  validate(r);
+  return r;
+}
+
+}  // namespace tocd::sim::study

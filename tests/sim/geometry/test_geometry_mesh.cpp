@@ -1,0 +1,183 @@
+// The composite mesh is conforming, its regions have the volumes of the geometry they
+// mesh, and its outer faces carry the right markers.
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "mesh_cache.hpp"
+#include "tocd/sim/mesh/topology.hpp"
+
+namespace geo = tocd::sim::geometry;
+namespace mesh = tocd::sim::mesh;
+using geo::testing::Case;
+
+namespace {
+
+const std::vector<Case> kAllCases{Case::baseline,  Case::flat,      Case::indent_05,
+                                  Case::indent_10, Case::indent_15, Case::indent_15_on_slide};
+
+std::string name_of(Case c) {
+  switch (c) {
+    case Case::baseline:
+      return "baseline";
+    case Case::flat:
+      return "flat";
+    case Case::indent_05:
+      return "indent_05";
+    case Case::indent_10:
+      return "indent_10";
+    case Case::indent_15:
+      return "indent_15";
+    case Case::indent_15_on_slide:
+      return "indent_15_on_slide";
+  }
+  return "?";
+}
+
+const geo::RegionStats* stats(const geo::CompositeMesh& m, int region) {
+  for (const auto& r : m.regions)
+    if (r.region == region) return &r;
+  return nullptr;
+}
+
+// 2 pi int r dA of a closed r-z polygon by the shoelace-style centroid formula (written
+// independently of the library's Green-theorem version).
+double revolved_volume(const std::vector<geo::ProfilePoint>& p) {
+  double area2 = 0, moment6 = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const auto& a = p[i];
+    const auto& b = p[(i + 1) % p.size()];
+    const double c = a.r_mm * b.z_mm - b.r_mm * a.z_mm;
+    area2 += c;
+    moment6 += (a.r_mm + b.r_mm) * c;
+  }
+  const double area = 0.5 * area2, centroid_r = moment6 / (3.0 * area2);
+  return std::abs(2.0 * std::numbers::pi * centroid_r * area);
+}
+
+class CompositeCase : public ::testing::TestWithParam<Case> {};
+
+}  // namespace
+
+TEST_P(CompositeCase, MeshIsConforming) {
+  const auto& m = geo::testing::mesh_of(GetParam());
+  // validate: no inverted tets, no face shared by more than two tets, no hanging nodes.
+  const mesh::FaceAdjacency adj = mesh::validate(m.mesh);
+  // Every face with one tet lies on the outer box: no gaps inside the composite.
+  const auto box = mesh::bounding_box(m.mesh);
+  std::size_t boundary = 0;
+  for (std::size_t t = 0; t < m.mesh.tets.size(); ++t) {
+    for (int f = 0; f < 4; ++f) {
+      if (adj.neighbour[t][f] >= 0) continue;
+      ++boundary;
+      for (int k : mesh::kFaceLocalNodes[f]) {
+        const auto& x = m.mesh.nodes[m.mesh.tets[t][k]];
+        bool on_box = false;
+        for (int a = 0; a < 3; ++a)
+          on_box = on_box || std::abs(x[a] - box.min[a]) < 1e-9 || std::abs(x[a] - box.max[a]) < 1e-9;
+        ASSERT_TRUE(on_box) << "tet " << t << " face " << f << " is open inside the composite";
+      }
+    }
+  }
+  EXPECT_EQ(boundary, m.mesh.boundary_faces.size());
+}
+
+TEST_P(CompositeCase, RegionVolumesMatchTheGeometry) {
+  const auto& m = geo::testing::mesh_of(GetParam());
+  for (const auto& r : m.regions) {
+    EXPECT_GT(r.tets, 0u) << "region " << r.region;
+    EXPECT_NEAR(r.volume_mm3, r.expected_volume_mm3, 0.01 * r.expected_volume_mm3) << "region " << r.region;
+    EXPECT_NEAR(r.volume_mm3, mesh::region_volume(m.mesh, r.region), 1e-9 * r.volume_mm3);
+  }
+  // Independent references: the slide box exactly; the pin's continuous volume within the
+  // N-gon (N = 32: 0.64 %) and chord (0.1 %) deficits of the revolved polygon.
+  const auto spec = geo::testing::spec_of(GetParam());
+  EXPECT_NEAR(stats(m, geo::slide)->expected_volume_mm3, 12.5 * 12.5 * 1.0, 1e-9);
+  const double R = spec.pin_radius_mm, L = spec.pin_length_mm;
+  const double pin = std::numbers::pi * R * R * (L - R) + 2.0 / 3.0 * std::numbers::pi * R * R * R;
+  EXPECT_NEAR(stats(m, geo::pin)->expected_volume_mm3, pin * 0.993, 0.006 * pin);
+  double total = 0;
+  for (const auto& r : m.regions) total += r.volume_mm3;
+  const double z_top = (spec.baseline ? 0.0 : spec.skin.thickness_mm - spec.pin_displacement_mm) + L;
+  EXPECT_NEAR(total, 12.5 * 12.5 * (1.0 + z_top), 1e-6 * total);
+  if (spec.baseline) {
+    EXPECT_EQ(stats(m, geo::skin), nullptr);
+    return;
+  }
+  if (spec.skin.compressed_outlines.empty()) {
+    EXPECT_NEAR(stats(m, geo::skin)->expected_volume_mm3, 12.5 * 12.5 * spec.skin.thickness_mm, 1e-9);
+    EXPECT_EQ(stats(m, geo::compressed), nullptr);
+  } else {
+    // The compressed zone as meshed against the FE outline's own revolved volume: within
+    // the N-gon deficit and the outline's simplification (0.1 x edge).
+    const double fe = revolved_volume(spec.skin.compressed_outlines[0]);
+    EXPECT_NEAR(stats(m, geo::compressed)->volume_mm3, fe, 0.03 * fe);
+  }
+}
+
+TEST_P(CompositeCase, OuterFacesCarryTheirMarkers) {
+  const auto& m = geo::testing::mesh_of(GetParam());
+  const auto box = mesh::bounding_box(m.mesh);
+  std::map<int, int> count;
+  for (const auto& f : m.mesh.boundary_faces) {
+    ++count[f.marker];
+    double zmin = 1e9, zmax = -1e9, rmax = 0, side = 0;
+    for (int k : f.nodes) {
+      const auto& x = m.mesh.nodes[k];
+      zmin = std::min(zmin, x[2]);
+      zmax = std::max(zmax, x[2]);
+      rmax = std::max(rmax, std::hypot(x[0], x[1]));
+      side = std::max({side, std::abs(x[0]), std::abs(x[1])});
+    }
+    switch (f.marker) {
+      case geo::slide_bottom:
+        EXPECT_TRUE(zmax == box.min[2] && zmin == box.min[2]);
+        break;
+      case geo::sides:
+        EXPECT_NEAR(side, 6.25, 1e-12);
+        break;
+      case geo::top:
+        EXPECT_TRUE(zmin == box.max[2] && rmax >= 1.5 * std::cos(std::numbers::pi / 32) - 1e-9);
+        break;
+      case geo::pin_top:
+        EXPECT_TRUE(zmin == box.max[2] && rmax <= 1.5 + 1e-9);
+        break;
+      default:
+        ADD_FAILURE() << "unexpected marker " << f.marker;
+    }
+  }
+  for (int marker : {geo::slide_bottom, geo::sides, geo::top, geo::pin_top}) EXPECT_GT(count[marker], 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Geometry, CompositeCase, ::testing::ValuesIn(kAllCases),
+                         [](const auto& param_info) { return name_of(param_info.param); });
+
+TEST(CompositeGeometry, DeeperIndentationShrinksTheAir) {
+  // The pin goes down with its top face: the air above the skin shrinks with d.
+  const auto air = [](Case c) { return stats(geo::testing::mesh_of(c), geo::air)->volume_mm3; };
+  EXPECT_GT(air(Case::flat), air(Case::indent_05));
+  EXPECT_GT(air(Case::indent_05), air(Case::indent_10));
+  EXPECT_GT(air(Case::indent_10), air(Case::indent_15));
+  EXPECT_GT(geo::testing::mesh_of(Case::indent_15).contact_radius_mm, 0.9);
+}
+
+TEST(CompositeGeometry, SizePresets) {
+  const auto fast = geo::resolve_size({});
+  const auto paper = geo::resolve_size({"paper", 0, 0});
+  EXPECT_DOUBLE_EQ(paper.edge_mm, 0.2);
+  EXPECT_LT(paper.max_volume_mm3, fast.max_volume_mm3);
+  EXPECT_GT(paper.azimuth_segments, fast.azimuth_segments);
+  const auto explicit_size = geo::resolve_size({"fast", 0.3, 0.01});
+  EXPECT_DOUBLE_EQ(explicit_size.edge_mm, 0.3);
+  EXPECT_DOUBLE_EQ(explicit_size.max_volume_mm3, 0.01);
+  // A finer explicit size gives more tets.
+  auto spec = geo::testing::spec_of(Case::flat);
+  spec.size.max_edge_mm = 0.6;
+  spec.size.max_volume_mm3 = 0.3;
+  const auto coarse = geo::build_composite(spec);
+  spec.size.max_edge_mm = 0.45;
+  spec.size.max_volume_mm3 = 0.1;
+  const auto fine = geo::build_composite(spec);
+  EXPECT_GT(fine.mesh.tets.size(), coarse.mesh.tets.size());
+}

@@ -1,0 +1,119 @@
+// `tocdlab predict`: transmission for one compression step (FE + tet mesh + Monte Carlo).
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "command_registry.hpp"
+#include "tocd/core/error.hpp"
+#include "tocd/sim/study/predictor.hpp"
+#include "tocd/sim/study/study.hpp"
+
+namespace {
+
+namespace st = tocd::sim::study;
+
+struct PredictOptions {
+  st::PredictionRequest request;
+  std::string compressed = "cleared", config_path;
+  bool json = false;
+};
+
+void run_predict(PredictOptions o) {
+  st::PredictionRequest r = o.request;
+  if (!o.config_path.empty()) {
+    std::ifstream in(o.config_path);
+    if (!in) throw tocd::ConfigError(fmt::format("cannot read prediction config {}", o.config_path));
+    nlohmann::json j;
+    try {
+      in >> j;
+    } catch (const nlohmann::json::exception& e) {
+      throw tocd::ConfigError(fmt::format("{}: not JSON ({})", o.config_path, e.what()));
+    }
+    if (j.contains("config")) j = j.at("config");  // a prediction's own JSON output
+    r = st::request_from_config(j);
+    r.threads = o.request.threads;
+    r.fluence_dir = o.request.fluence_dir;
+  } else if (r.optics_model == "threshold") {
+    std::string label;
+    st::apply_optics(o.compressed, r, label);
+  }
+  st::Predictor predictor(1);
+  const st::Prediction p = predictor.predict(r);
+  if (o.json) {
+    nlohmann::json j = {{"T", p.T},
+                        {"T_se", p.T_stderr},
+                        {"side_loss", p.side_loss},
+                        {"side_loss_se", p.side_loss_stderr},
+                        {"reflectance", p.reflectance},
+                        {"absorbed", p.absorbed},
+                        {"specular", p.specular},
+                        {"tets", p.tets},
+                        {"fe_seconds", p.fe_seconds},
+                        {"mesh_seconds", p.mesh_seconds},
+                        {"mc_seconds", p.mc_seconds},
+                        {"config", p.config},
+                        {"fe_summary", p.fe_summary},
+                        {"mesh_stats", p.mesh_stats},
+                        {"mc", p.mc}};
+    if (!p.fluence.is_null()) j["fluence"] = p.fluence;
+    std::cout << j.dump(2) << '\n';
+    return;
+  }
+  std::cout << fmt::format("d = {} mm into {} mm skin, optics {} ({}), {} photons, seed {}, mesh '{}'\n",
+                           r.displacement_mm, r.thickness_mm, r.optics_model,
+                           r.optics_model == "graded" ? "strain-graded" : r.compressed_optics.name, r.photons,
+                           r.seed, r.mesh_preset);
+  std::cout << fmt::format("  T          {:.6f} +- {:.6f}\n  side loss  {:.6f} +- {:.6f}\n", p.T, p.T_stderr,
+                           p.side_loss, p.side_loss_stderr);
+  std::cout << fmt::format("  reflected  {:.6f}, absorbed {:.6f}, specular {:.6f}\n", p.reflectance,
+                           p.absorbed, p.specular);
+  if (p.fe_summary.contains("force_N"))
+    std::cout << fmt::format("  FE: force {:.4g} N, compressed volume {:.4g} mm^3\n",
+                             p.fe_summary["force_N"].get<double>(),
+                             p.fe_summary["compressed_volume_mm3"].get<double>());
+  std::cout << fmt::format("  {} tets; FE {:.1f} s, mesh {:.1f} s, Monte Carlo {:.1f} s\n", p.tets,
+                           p.fe_seconds, p.mesh_seconds, p.mc_seconds);
+  if (!p.fluence.is_null())
+    std::cout << fmt::format("  fluence: {}, {}, {}\n", p.fluence["vtu"].get<std::string>(),
+                             p.fluence["horizontal_csv"].get<std::string>(),
+                             p.fluence["vertical_csv"].get<std::string>());
+}
+
+void install_predict(CLI::App& root) {
+  auto* cmd =
+      root.add_subcommand("predict", "Predict transmission for one pin-compression step (see docs/study.md)");
+  auto o = std::make_shared<PredictOptions>();
+  auto& r = o->request;
+  cmd->add_option("--displacement", r.displacement_mm, "pin displacement into the skin (mm)")
+      ->capture_default_str();
+  cmd->add_option("--thickness", r.thickness_mm, "skin thickness (mm)")->capture_default_str();
+  cmd->add_option("--photons", r.photons, "photons")->capture_default_str();
+  cmd->add_option("--seed", r.seed, "random seed")->capture_default_str();
+  cmd->add_option("--optics", r.optics_model, "optics model: threshold | graded")
+      ->check(CLI::IsMember({"threshold", "graded"}))
+      ->capture_default_str();
+  cmd->add_option("--compressed-optics", o->compressed,
+                  "threshold model: optics of the compressed region (native, a80, ..., cleared, MU_A/MU_S/N)")
+      ->capture_default_str();
+  cmd->add_option("--graded-bins", r.graded.bins, "graded model: optics levels")->capture_default_str();
+  cmd->add_option("--mesh", r.mesh_preset, "mesh preset: fast | paper")
+      ->check(CLI::IsMember({"fast", "paper"}))
+      ->capture_default_str();
+  cmd->add_option("--max-edge", r.max_edge_mm, "override the preset's surface edge length (mm)");
+  cmd->add_option("--pin-length", r.pin_length_mm, "pin length tip to top face (mm)")->capture_default_str();
+  cmd->add_option("--threads", r.threads, "Monte Carlo threads (0 = all cores)")->capture_default_str();
+  cmd->add_flag("--baseline", r.baseline, "glass only: pin tip on the slide, no skin");
+  cmd->add_option("--config", o->config_path,
+                  "reproduce a prediction from its config JSON (or its --json output)");
+  cmd->add_option("--fluence-dir", r.fluence_dir, "write fluence .vtu and slice CSVs here");
+  cmd->add_flag("--json", o->json, "machine-readable output with config and artefacts");
+  cmd->callback([o] { run_predict(*o); });
+}
+
+}  // namespace
+
+TOCD_CLI_COMMAND(predict, install_predict);

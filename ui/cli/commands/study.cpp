@@ -1,0 +1,100 @@
+// `tocdlab study paper|sweep`: the published parametric study and sweeps (docs/study.md).
+#include "tocd/sim/study/study.hpp"
+
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "command_registry.hpp"
+#include "tocd/core/error.hpp"
+
+namespace {
+
+namespace st = tocd::sim::study;
+
+struct StudyOptions {
+  st::StudySettings settings;
+  std::string json_path, csv_path;
+  double thickness_mm = 2.5;
+  std::vector<double> displacements, thicknesses;
+  std::vector<std::string> optics;
+  bool no_baseline = false;
+};
+
+void write_file(const std::string& path, const std::string& text) {
+  std::ofstream out(path);
+  if (!out) throw tocd::Error(fmt::format("cannot write {}", path));
+  out << text;
+  if (!out) throw tocd::Error(fmt::format("cannot write {}", path));
+}
+
+void run(const StudyOptions& o, const std::vector<st::StudyCase>& cases, int ref_a, int ref_b) {
+  std::cout << fmt::format("{} simulations, {} photons each, mesh '{}', seed {}\n", cases.size(),
+                           o.settings.photons, o.settings.mesh_preset, o.settings.seed);
+  std::cout << st::table_header() << std::flush;
+  st::Predictor predictor(1);
+  const st::StudyTable table =
+      st::run_study(predictor, cases, o.settings, ref_a, ref_b,
+                    [](const st::StudyRow& r) { std::cout << st::format_row(r) << std::flush; });
+  std::cout << fmt::format("T/T0, T/T3: relative to sim {} and sim {}; total {:.1f} s\n", ref_a, ref_b,
+                           table.seconds);
+  if (!o.json_path.empty()) write_file(o.json_path, st::to_json(table).dump(2) + "\n");
+  if (!o.csv_path.empty()) write_file(o.csv_path, st::to_csv(table));
+}
+
+void add_common(CLI::App* cmd, StudyOptions& o) {
+  cmd->add_option("--photons", o.settings.photons, "photons per simulation")->capture_default_str();
+  cmd->add_option("--mesh", o.settings.mesh_preset, "mesh preset: fast | paper")
+      ->check(CLI::IsMember({"fast", "paper"}))
+      ->capture_default_str();
+  cmd->add_option("--max-edge", o.settings.max_edge_mm, "override the preset's surface edge length (mm)");
+  cmd->add_option("--threads", o.settings.threads,
+                  "Monte Carlo threads (0 = all cores; results do not depend on it)")
+      ->capture_default_str();
+  cmd->add_option("--seed", o.settings.seed, "random seed (the same for every simulation)")
+      ->capture_default_str();
+  cmd->add_option("--batches", o.settings.batches, "batches for standard errors")->capture_default_str();
+  cmd->add_option("--json", o.json_path, "write every number of the table (and each run's config) as JSON");
+  cmd->add_option("--csv", o.csv_path, "write the table as CSV");
+  cmd->add_option("--fluence-dir", o.settings.fluence_dir,
+                  "write per-tet fluence (.vtu) and horizontal/vertical slices (.csv) per simulation here");
+}
+
+void install_study(CLI::App& root) {
+  auto* study =
+      root.add_subcommand("study", "Parametric optical studies of pin compression (see docs/study.md)");
+  study->require_subcommand(1);
+  auto o = std::make_shared<StudyOptions>();
+
+  auto* paper = study->add_subcommand("paper", "The published study: simulations 0..11");
+  add_common(paper, *o);
+  paper->add_option("--thickness", o->thickness_mm, "skin thickness (mm); displacements keep their strains")
+      ->capture_default_str();
+  paper->callback([o] { run(*o, st::paper_cases(o->settings, o->thickness_mm), 0, 3); });
+
+  auto* sweep = study->add_subcommand("sweep", "Every displacement x thickness x optics combination");
+  add_common(sweep, *o);
+  sweep->add_option("--displacements", o->displacements, "pin displacements (mm), comma separated")
+      ->delimiter(',')
+      ->required();
+  sweep->add_option("--thickness", o->thicknesses, "skin thicknesses (mm), comma separated (default 2.5)")
+      ->delimiter(',');
+  sweep
+      ->add_option("--optics", o->optics,
+                   "compressed-region optics, comma separated: native, a80, a60, s80, s60, n105, n110, "
+                   "a80s80n105, a60s60n110, cleared, graded, MU_A/MU_S/N (default native)")
+      ->delimiter(',');
+  sweep->add_flag("--no-baseline", o->no_baseline, "skip the glass-only baseline (sim 0)");
+  sweep->callback([o] {
+    run(*o, st::sweep_cases(o->settings, o->displacements, o->thicknesses, o->optics, !o->no_baseline),
+        o->no_baseline ? -1 : 0, 1);
+  });
+}
+
+}  // namespace
+
+TOCD_CLI_COMMAND(study, install_study);
