@@ -138,6 +138,7 @@ QString SimulationView::optics() const {
 
 void SimulationView::begin(int total) {
   rows_.clear();
+  slice_cache_.clear();  // a new run rewrites the files
   table_->setRowCount(0);
   left_sim_->clear();
   right_sim_->clear();
@@ -203,7 +204,9 @@ void SimulationView::update_maps() {
     const QString path = horizontal ? r.horizontal_csv : r.vertical_csv;
     if (path.isEmpty()) return {};
     try {
-      ScalarGrid g = read_slice_csv(path);
+      auto cached = slice_cache_.find(path);
+      if (cached == slice_cache_.end()) cached = slice_cache_.emplace(path, read_slice_csv(path)).first;
+      ScalarGrid g = cached->second;
       g.title = tr("sim %1 (%2), %3").arg(r.id).arg(r.label, slice->currentText());
       return g;
     } catch (const SliceCsvError& e) {

@@ -1,9 +1,11 @@
 #pragma once
 
 #include <QWidget>
+#include <map>
 #include <vector>
 
 #include "backend_study.hpp"
+#include "scalar_grid.hpp"
 
 class QComboBox;
 class QDoubleSpinBox;
@@ -66,6 +68,7 @@ class SimulationView : public QWidget {
   QComboBox* right_slice_;
   FluenceMapPair* maps_;
   std::vector<SimulationRow> rows_;
+  std::map<QString, ScalarGrid> slice_cache_;  ///< slices already read, by path
 };
 
 }  // namespace tocd::gui
