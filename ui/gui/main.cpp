@@ -1,12 +1,68 @@
 #include <QApplication>
+#include <QCommandLineParser>
+#include <QDir>
+#include <QTemporaryDir>
+#include <cstdio>
 
+#include "demo.hpp"
 #include "main_window.hpp"
+#include "simulation_view.hpp"
+#include "tocd/core/version.hpp"
 
 int main(int argc, char** argv) {
   QApplication app(argc, argv);
   QApplication::setApplicationName(QStringLiteral("tocdlab"));
   QApplication::setOrganizationName(QStringLiteral("tocdlab"));
+  QApplication::setApplicationVersion(QString::fromUtf8(tocd::version().data()));
+
+  QCommandLineParser cli;
+  cli.setApplicationDescription(QStringLiteral("tocdlab workbench window"));
+  cli.addHelpOption();
+  cli.addVersionOption();
+  const QCommandLineOption demo(QStringLiteral("demo"),
+                                QStringLiteral("Run the demo protocol on the simulated lab, then exit."));
+  const QCommandLineOption screenshot(QStringLiteral("screenshot"),
+                                      QStringLiteral("With --demo: save a picture of the window to FILE."),
+                                      QStringLiteral("FILE"));
+  const QCommandLineOption db(
+      QStringLiteral("db"),
+      QStringLiteral("Record into this database (default: a temporary one for --demo)."),
+      QStringLiteral("FILE"));
+  const QCommandLineOption photons(QStringLiteral("photons"), QStringLiteral("Photons per prediction."),
+                                   QStringLiteral("N"));
+  const QCommandLineOption clock(QStringLiteral("clock-factor"),
+                                 QStringLiteral("Simulated seconds per real second for the simulated lab."),
+                                 QStringLiteral("F"));
+  cli.addOptions({demo, screenshot, db, photons, clock});
+  cli.process(app);
+
   tocd::gui::MainWindow window;
+  if (cli.isSet(photons)) {
+    window.simulation_view()->set_photons(cli.value(photons).toULongLong());
+  } else if (cli.isSet(demo)) {
+    window.simulation_view()->set_photons(20000);  // enough for a picture, quick on two cores
+  }
+  auto lab = window.simulated_lab_options();
+  lab.clock_factor = cli.isSet(clock) ? cli.value(clock).toDouble() : 5.0;
+  if (!(lab.clock_factor > 0)) {
+    std::fprintf(stderr, "tocdlab-gui: --clock-factor must be a positive number\n");
+    return 2;
+  }
+  window.set_simulated_lab_options(lab);
   window.show();
-  return QApplication::exec();
+  if (!cli.isSet(demo)) {
+    if (cli.isSet(db)) window.set_record_database(cli.value(db));
+    return QApplication::exec();
+  }
+
+  QTemporaryDir scratch;
+  window.set_record_database(cli.isSet(db) ? cli.value(db)
+                                           : scratch.filePath(QStringLiteral("demo.tocdlab")));
+  tocd::gui::DemoDriver driver(window, cli.value(screenshot));
+  QObject::connect(&driver, &tocd::gui::DemoDriver::done, &app, [](int code) { QApplication::exit(code); });
+  driver.start();
+  const int code = QApplication::exec();
+  std::fprintf(stderr, "tocdlab-gui --demo: %s (database %s)\n", code == 0 ? "ok" : "failed",
+               qPrintable(window.record_database()));
+  return code;
 }

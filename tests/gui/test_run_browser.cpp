@@ -1,0 +1,174 @@
+#include <QFile>
+#include <QSignalSpy>
+#include <QTemporaryDir>
+#include <QTest>
+#include <cmath>
+
+#include "backend_db.hpp"
+#include "tocd/db/database.hpp"
+#include "tocd/db/writer.hpp"
+
+using namespace tocd;
+using tocd::gui::RunBrowserBackend;
+using tocd::gui::RunDetails;
+using tocd::gui::RunListing;
+
+class RunBrowserTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  void initTestCase();
+  void lists_and_loads_a_run();
+  void exports_csv();
+  void refuses_corrupt_and_foreign_files();
+
+ private:
+  QTemporaryDir dir_;
+  QString db_path_;
+  std::int64_t run_id_ = 0;
+};
+
+// A small completed run: 3 steps with load statistics, predictions for steps 0 and 2,
+// 1 kHz paired displacement/load samples and an event.
+void RunBrowserTest::initTestCase() {
+  QVERIFY(dir_.isValid());
+  db_path_ = dir_.filePath(QStringLiteral("lab.tocdlab"));
+  auto database = db::Database::open(db_path_.toStdString());
+  db::NewRun nr;
+  nr.name = "browser test";
+  nr.operator_name = "tester";
+  const db::RunRecord run = database.create_run(nr);
+  run_id_ = run.id;
+  const auto disp = database.add_channel({0, run.id, "displacement", "mm", 0, 1000.0});
+  const auto load = database.add_channel({0, run.id, "load", "N", 0, 1000.0});
+  {
+    db::Writer writer(database);
+    for (int i = 0; i < 3000; ++i) {
+      const std::int64_t t = run.monotonic_anchor_ns + i * 1000000LL;
+      const double d = 0.0005 * i;
+      writer.enqueue(db::Sample{disp.id, t, d});
+      writer.enqueue(db::Sample{load.id, t, 4.0 * d * d});
+    }
+    writer.flush();
+  }
+  for (int k = 0; k < 3; ++k) {
+    db::StepRecord s;
+    s.run_id = run.id;
+    s.index = k;
+    s.target_displacement_mm = 0.5 * (k + 1);
+    s.nominal_strain = s.target_displacement_mm / 2.5;
+    s.measured_transmission = 0.3 + 0.05 * k;
+    s.channels = {{disp.id, s.target_displacement_mm, 0.001, 1000}, {load.id, 1.0 + k, 0.01, 1000}};
+    database.add_step(s);
+  }
+  for (int k : {0, 2}) {
+    db::PredictionRecord p;
+    p.run_id = run.id;
+    p.step_index = k;
+    p.T = 0.32 + 0.05 * k;
+    p.T_stderr = 0.004;
+    p.config_json = "{}";
+    database.add_prediction(p);
+  }
+  db::EventRecord e;
+  e.run_id = run.id;
+  e.t_ns = run.monotonic_anchor_ns + 5;
+  e.kind = "state";
+  e.message = "running";
+  database.add_event(e);
+  database.set_run_status(run.id, db::RunStatus::completed);
+}
+
+void RunBrowserTest::lists_and_loads_a_run() {
+  RunBrowserBackend backend;
+  QSignalSpy opened(&backend, &RunBrowserBackend::database_opened);
+  QSignalSpy failed(&backend, &RunBrowserBackend::failed);
+  backend.open_database(db_path_);
+  QVERIFY(opened.wait(10000));
+  QCOMPARE(failed.count(), 0);
+  const auto runs = opened.at(0).at(1).value<QVector<RunListing>>();
+  QCOMPARE(runs.size(), 1);
+  QCOMPARE(runs[0].id, run_id_);
+  QCOMPARE(runs[0].status, QStringLiteral("completed"));
+  QCOMPARE(runs[0].steps, 3);
+  QCOMPARE(runs[0].predictions, 2);
+
+  QSignalSpy loaded(&backend, &RunBrowserBackend::run_loaded);
+  backend.load_run(run_id_);
+  QVERIFY(loaded.wait(10000));
+  const auto details = loaded.at(0).at(0).value<RunDetails>();
+  // Every row equals what the database holds (read independently here).
+  db::Reader reader(db_path_.toStdString());
+  const auto compare = reader.compare(run_id_);
+  QCOMPARE(details.rows.size(), compare.size());
+  for (std::size_t i = 0; i < compare.size(); ++i) {
+    const auto& r = details.rows[i];
+    QCOMPARE(r.step, compare[i].step.index);
+    QCOMPARE(r.displacement_mm, compare[i].step.target_displacement_mm);
+    QCOMPARE(r.measured_T, compare[i].step.measured_transmission);
+    QCOMPARE(r.load_N, 1.0 + static_cast<double>(i));
+    QCOMPARE(r.predicted_T.has_value(), compare[i].prediction.has_value());
+    if (r.predicted_T) {
+      QCOMPARE(*r.predicted_T, compare[i].prediction->T);
+      QCOMPARE(*r.predicted_T_stderr, compare[i].prediction->T_stderr);
+    }
+  }
+  QCOMPARE(details.events.size(), std::size_t{1});
+  QCOMPARE(details.events[0].message, QStringLiteral("running"));
+  QCOMPARE(details.series.size(), std::size_t{2});
+  QVERIFY(details.series[0].points.size() <= 2 * 2000 + 2);
+  // Paired load vs displacement follows load = 4 d^2.
+  QVERIFY(!details.load_vs_displacement.empty());
+  for (const QPointF& p : details.load_vs_displacement) {
+    QVERIFY(std::abs(p.y() - 4.0 * p.x() * p.x()) < 1e-12);
+  }
+}
+
+void RunBrowserTest::exports_csv() {
+  RunBrowserBackend backend;
+  QSignalSpy opened(&backend, &RunBrowserBackend::database_opened);
+  backend.open_database(db_path_);
+  QVERIFY(opened.wait(10000));
+  QSignalSpy exported(&backend, &RunBrowserBackend::exported);
+  const QString csv = dir_.filePath(QStringLiteral("run.csv"));
+  backend.export_csv(run_id_, csv);
+  QVERIFY(exported.wait(10000));
+  QFile f(csv);
+  QVERIFY(f.open(QIODevice::ReadOnly));
+  const QList<QByteArray> lines = f.readAll().trimmed().split('\n');
+  QCOMPARE(lines.size(), 4);  // header + 3 steps
+  QVERIFY(lines[0].contains("measured_T"));
+  QVERIFY(lines[1].contains("0.32"));
+  // An export into a folder that does not exist fails with a message.
+  QSignalSpy failed(&backend, &RunBrowserBackend::failed);
+  backend.export_csv(run_id_, dir_.filePath(QStringLiteral("no/such/dir/run.csv")));
+  QVERIFY(failed.wait(10000));
+}
+
+void RunBrowserTest::refuses_corrupt_and_foreign_files() {
+  const QString junk = dir_.filePath(QStringLiteral("junk.tocdlab"));
+  {
+    QFile f(junk);
+    QVERIFY(f.open(QIODevice::WriteOnly));
+    f.write(QByteArray(4096, 'x'));
+  }
+  const QString missing = dir_.filePath(QStringLiteral("missing.tocdlab"));
+  for (const QString& path : {junk, missing}) {
+    RunBrowserBackend backend;
+    QSignalSpy failed(&backend, &RunBrowserBackend::failed);
+    QSignalSpy opened(&backend, &RunBrowserBackend::database_opened);
+    backend.open_database(path);
+    QVERIFY(failed.wait(10000));
+    QCOMPARE(opened.count(), 0);
+    QVERIFY(!backend.is_open());
+    QVERIFY(!failed.at(0).at(1).toString().isEmpty());
+  }
+  // The refused file is left as it was.
+  QFile f(junk);
+  QVERIFY(f.open(QIODevice::ReadOnly));
+  QCOMPARE(f.readAll(), QByteArray(4096, 'x'));
+  QVERIFY(!QFile::exists(missing));
+}
+
+QTEST_GUILESS_MAIN(RunBrowserTest)
+#include "test_run_browser.moc"

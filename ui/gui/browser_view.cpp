@@ -1,0 +1,145 @@
+#include "browser_view.hpp"
+
+#include <QGridLayout>
+#include <QHeaderView>
+#include <QLabel>
+#include <QSplitter>
+#include <QTableView>
+#include <QTableWidget>
+#include <QVBoxLayout>
+
+#include "comparison_chart.hpp"
+#include "event_log.hpp"
+#include "live_chart.hpp"
+#include "step_table_model.hpp"
+
+namespace tocd::gui {
+
+BrowserView::BrowserView(QWidget* parent)
+    : QWidget(parent),
+      title_(new QLabel(tr("No database open (Data > Open database…)"), this)),
+      runs_(new QTableWidget(this)),
+      steps_(new StepTableModel(this)),
+      table_(new QTableView(this)),
+      comparison_(new ComparisonChart(this)),
+      load_chart_(new LiveChart(
+          {tr("Load vs displacement (stored)"), tr("displacement (mm)"), tr("load (N)"), 1e-9, 0.0, 100000},
+          this)),
+      power_chart_(new LiveChart(
+          {tr("Optical power (stored)"), tr("time (s)"), tr("power (W)"), 1e-9, 0.0, 100000}, this)),
+      events_(new EventLog(this)) {
+  runs_->setColumnCount(7);
+  runs_->setHorizontalHeaderLabels({tr("Run"), tr("Name"), tr("Status"), tr("Started (UTC)"), tr("Steps"),
+                                    tr("Predictions"), tr("Operator")});
+  runs_->setSelectionBehavior(QAbstractItemView::SelectRows);
+  runs_->setSelectionMode(QAbstractItemView::SingleSelection);
+  runs_->setEditTriggers(QAbstractItemView::NoEditTriggers);
+  runs_->verticalHeader()->hide();
+  runs_->horizontalHeader()->setStretchLastSection(true);
+  table_->setModel(steps_);
+  table_->verticalHeader()->hide();
+  table_->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
+
+  auto* charts = new QWidget(this);
+  auto* grid = new QGridLayout(charts);
+  grid->setContentsMargins(0, 0, 0, 0);
+  grid->addWidget(comparison_, 0, 0);
+  grid->addWidget(load_chart_, 0, 1);
+  grid->addWidget(power_chart_, 0, 2);
+
+  auto* split = new QSplitter(Qt::Vertical, this);
+  split->addWidget(runs_);
+  split->addWidget(charts);
+  auto* bottom = new QSplitter(Qt::Horizontal, this);
+  bottom->addWidget(table_);
+  bottom->addWidget(events_);
+  split->addWidget(bottom);
+
+  auto* col = new QVBoxLayout(this);
+  col->addWidget(title_);
+  col->addWidget(split, 1);
+
+  connect(runs_, &QTableWidget::itemSelectionChanged, this, [this] {
+    if (const auto id = selected_run(); id != 0) emit run_selected(id);
+  });
+}
+
+QString BrowserView::title_text() const {
+  return title_->text();
+}
+
+void BrowserView::show_database(const QString& path, const QVector<RunListing>& runs) {
+  title_->setText(tr("Database: %1 (read-only)").arg(path));
+  steps_->clear();
+  comparison_->clear();
+  load_chart_->clear();
+  power_chart_->clear();
+  events_->clear();
+  show_runs(runs);
+}
+
+void BrowserView::show_runs(const QVector<RunListing>& runs) {
+  const std::int64_t keep = selected_run();
+  listed_ = runs;
+  const QSignalBlocker block(runs_);
+  runs_->setRowCount(static_cast<int>(runs.size()));
+  for (int i = 0; i < runs.size(); ++i) {
+    const RunListing& r = runs[i];
+    const QStringList cells = {QString::number(r.id),
+                               r.name,
+                               r.live ? tr("%1 (live)").arg(r.status) : r.status,
+                               r.started_utc.toString(QStringLiteral("yyyy-MM-dd HH:mm:ss")),
+                               QString::number(r.steps),
+                               QString::number(r.predictions),
+                               r.operator_name};
+    for (int c = 0; c < cells.size(); ++c) runs_->setItem(i, c, new QTableWidgetItem(cells[c]));
+    if (r.id == keep) runs_->selectRow(i);
+  }
+  runs_->resizeColumnsToContents();
+}
+
+void BrowserView::show_run(const RunDetails& d) {
+  steps_->set_rows(d.rows);
+  comparison_->clear();
+  for (const StepRow& r : d.rows) {
+    comparison_->set_measured(r.step, r.nominal_strain, r.measured_T);
+    if (r.predicted_T)
+      comparison_->set_predicted(r.step, r.nominal_strain, *r.predicted_T, *r.predicted_T_stderr);
+  }
+  load_chart_->clear();
+  double k = 0;
+  for (const QPointF& p : d.load_vs_displacement) load_chart_->add(k++, p.x(), p.y());
+  load_chart_->refresh();
+  power_chart_->clear();
+  for (const SeriesView& s : d.series) {
+    if (s.name != QLatin1String("power")) continue;
+    for (const QPointF& p : s.points) power_chart_->add(p.x(), p.x(), p.y());
+  }
+  power_chart_->refresh();
+  events_->clear();
+  for (const EventView& e : d.events) {
+    const auto sev = e.kind == QLatin1String("interlock") ? EventLog::Severity::error
+                     : e.kind == QLatin1String("fault")   ? EventLog::Severity::warning
+                                                          : EventLog::Severity::info;
+    events_->add(sev, e.kind, e.message, e.utc);
+  }
+}
+
+std::int64_t BrowserView::selected_run() const {
+  const auto rows = runs_->selectionModel()->selectedRows();
+  if (rows.isEmpty()) return 0;
+  const int i = rows.front().row();
+  return i >= 0 && i < listed_.size() ? listed_[i].id : 0;
+}
+
+void BrowserView::select_run(std::int64_t run_id) {
+  for (int i = 0; i < listed_.size(); ++i) {
+    if (listed_[i].id == run_id) runs_->selectRow(i);
+  }
+}
+
+int BrowserView::run_count() const {
+  return static_cast<int>(listed_.size());
+}
+
+}  // namespace tocd::gui

@@ -1,0 +1,40 @@
+#pragma once
+
+#include <QObject>
+#include <QString>
+
+#include "tocd/acquisition/engine.hpp"
+
+namespace tocd::gui {
+
+class MainWindow;
+
+/// The demo pin-compression protocol for the simulated lab (6 steps from contact to
+/// 1.5 mm into a 2.5 mm sample), as TOML.
+QString demo_protocol_toml(double tester_Hz = 200.0);
+
+/// `tocdlab-gui --demo`: starts the simulated lab, loads the demo protocol, starts the run
+/// through the window's own actions, waits for the run and every prediction, optionally
+/// saves a screenshot of the window, then quits. Exit code 0 when every step has a measured
+/// and a predicted transmission (or measured only, when the build has no simulator).
+class DemoDriver : public QObject {
+  Q_OBJECT
+
+ public:
+  DemoDriver(MainWindow& window, QString screenshot_path, QObject* parent = nullptr);
+  void start();
+
+ signals:
+  void done(int exit_code);
+
+ private:
+  void on_lab_ready();
+  void on_finished(acquisition::EngineState state);
+  void take_screenshot_and_quit(int exit_code);
+
+  MainWindow& window_;
+  QString screenshot_;
+  bool started_ = false;
+};
+
+}  // namespace tocd::gui

@@ -1,0 +1,110 @@
+#include "lab_view.hpp"
+
+#include <QLabel>
+#include <QVBoxLayout>
+
+#include "instrument_panel.hpp"
+
+namespace tocd::gui {
+
+LabView::LabView(QWidget* parent) : QWidget(parent), lab_label_(new QLabel(tr("No lab connected"), this)) {
+  auto* col = new QVBoxLayout(this);
+  col->setContentsMargins(0, 0, 0, 0);
+  QFont bold = lab_label_->font();
+  bold.setBold(true);
+  lab_label_->setFont(bold);
+  col->addWidget(lab_label_);
+  const QString names[] = {tr("Mechanical tester"), tr("Power meter"), tr("Vacuum controller")};
+  for (std::size_t k = 0; k < panels_.size(); ++k) {
+    panels_[k] = new InstrumentPanel(names[k], this);
+    col->addWidget(panels_[k]);
+  }
+}
+
+QString LabView::lab_text() const {
+  return lab_label_->text();
+}
+
+void LabView::show_connecting(const QString& what) {
+  lab_label_->setText(tr("Connecting: %1").arg(what));
+  for (auto* p : panels_) p->set_connection(InstrumentPanel::Connection::connecting);
+}
+
+void LabView::show_connected(const QString& lab_name, const QVector<InstrumentIdentity>& identities) {
+  lab_label_->setText(tr("Lab: %1").arg(lab_name));
+  for (auto* p : panels_) p->set_connection(InstrumentPanel::Connection::absent);
+  for (const auto& id : identities) {
+    InstrumentPanel* p = panel(id.kind);
+    p->set_connection(InstrumentPanel::Connection::connected);
+    p->set_identity(id.vendor, id.model, id.serial, id.firmware);
+    p->set_fault(false);
+  }
+}
+
+void LabView::show_disconnected() {
+  lab_label_->setText(tr("No lab connected"));
+  for (auto* p : panels_) p->set_connection(InstrumentPanel::Connection::absent);
+}
+
+void LabView::show_reading(const InstrumentReading& r) {
+  InstrumentPanel* p = panel(r.kind);
+  if (p->connection() != InstrumentPanel::Connection::connected) {
+    p->set_connection(InstrumentPanel::Connection::connected);
+  }
+  switch (r.kind) {
+    case InstrumentKind::tester:
+      p->set_value(tr("position"), r.value, QStringLiteral("mm"));
+      p->set_value(tr("load"), r.value2, QStringLiteral("N"));
+      break;
+    case InstrumentKind::power_meter:
+      p->set_value(tr("power"), r.value, QStringLiteral("W"));
+      break;
+    case InstrumentKind::vacuum:
+      p->set_value(tr("pressure"), r.value, QStringLiteral("kPa"));
+      p->set_value(tr("setpoint"), r.value2, QStringLiteral("kPa"));
+      break;
+  }
+  p->set_fault(r.fault, r.fault_text);
+}
+
+void LabView::show_error(InstrumentKind kind, const QString& message) {
+  panel(kind)->set_connection(InstrumentPanel::Connection::lost);
+  panel(kind)->set_fault(true, message);
+}
+
+void LabView::show_live(const std::vector<LiveReading>& readings) {
+  // Only the newest value of each channel matters for a panel.
+  std::array<const LiveReading*, 5> last{};
+  for (const auto& r : readings) last[static_cast<std::size_t>(r.channel)] = &r;
+  using C = LiveReading::Channel;
+  if (last[static_cast<std::size_t>(C::displacement)]) {
+    panel(InstrumentKind::tester)
+        ->set_value(tr("displacement"), last[static_cast<std::size_t>(C::displacement)]->value,
+                    QStringLiteral("mm"));
+  }
+  if (last[static_cast<std::size_t>(C::load)]) {
+    panel(InstrumentKind::tester)
+        ->set_value(tr("load"), last[static_cast<std::size_t>(C::load)]->value, QStringLiteral("N"));
+  }
+  if (last[static_cast<std::size_t>(C::power)]) {
+    panel(InstrumentKind::power_meter)
+        ->set_value(tr("power"), last[static_cast<std::size_t>(C::power)]->value, QStringLiteral("W"));
+  }
+  if (last[static_cast<std::size_t>(C::pressure)]) {
+    panel(InstrumentKind::vacuum)
+        ->set_value(tr("pressure"), last[static_cast<std::size_t>(C::pressure)]->value,
+                    QStringLiteral("kPa"));
+  }
+}
+
+void LabView::show_fault(const QString& message) {
+  const QString m = message.toLower();
+  InstrumentKind kind = InstrumentKind::tester;
+  if (m.contains(QStringLiteral("power"))) kind = InstrumentKind::power_meter;
+  if (m.contains(QStringLiteral("vacuum")) || m.contains(QStringLiteral("pressure"))) {
+    kind = InstrumentKind::vacuum;
+  }
+  panel(kind)->set_fault(true, message);
+}
+
+}  // namespace tocd::gui
