@@ -8,6 +8,7 @@
 #include "background.hpp"
 
 #if TOCD_GUI_WITH_STUDY
+#include "tocd/acquisition/sim_step_predictor.hpp"
 #include "tocd/sim/study/predictor.hpp"
 #include "tocd/sim/study/study.hpp"
 #endif
@@ -52,37 +53,6 @@ SimulationRow row_of(const study::StudyRow& r) {
   }
   return s;
 }
-
-// The engine's predictor: a step becomes a PredictionRequest; the simulator's future is
-// turned into the engine's on the prediction thread that waits for it.
-class SimulatorStepPredictor : public acquisition::StepPredictor {
- public:
-  explicit SimulatorStepPredictor(qulonglong photons) : photons_(photons) {}
-  std::future<acquisition::PredictedStep> predict(const acquisition::RecordedStep& step) override {
-    study::PredictionRequest r;
-    r.displacement_mm = std::max(0.0, step.displacement_mm);
-    r.thickness_mm = step.thickness_mm;
-    r.photons = photons_;
-    r.seed = 1 + static_cast<std::uint64_t>(step.index);
-    auto f = predictor_.submit(r);
-    return std::async(std::launch::deferred, [f = std::move(f)]() mutable {
-      const study::Prediction p = f.get();
-      acquisition::PredictedStep out;
-      out.T = p.T;
-      out.T_stderr = p.T_stderr;
-      out.config_json = p.config.dump();
-      out.fe_seconds = p.fe_seconds;
-      out.mesh_seconds = p.mesh_seconds;
-      out.mc_seconds = p.mc_seconds;
-      out.seconds = p.fe_seconds + p.mesh_seconds + p.mc_seconds;
-      return out;
-    });
-  }
-
- private:
-  qulonglong photons_;
-  study::Predictor predictor_{1};
-};
 
 }  // namespace
 
@@ -160,7 +130,11 @@ void StudyBackend::predict(double displacement_mm, double thickness_mm, const QS
 }
 
 std::shared_ptr<acquisition::StepPredictor> make_simulator_step_predictor(qulonglong photons) {
-  return std::make_shared<SimulatorStepPredictor>(photons);
+  // The same predictor as `tocdlab demo` / `run`: T relative to the glass-only geometry,
+  // as the measured T is relative to the glass-only baseline power.
+  acquisition::SimPredictorSettings settings;
+  settings.photons = photons;
+  return std::make_shared<acquisition::SimStepPredictor>(std::make_shared<study::Predictor>(1), settings);
 }
 
 #else  // no simulator in this build
