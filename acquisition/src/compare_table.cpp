@@ -93,9 +93,10 @@ std::string format_compare_csv(const CompareTable& t) {
       "relative_difference,completed\n";
   for (const auto& l : t.lines) {
     const bool pred = l.has_prediction;
-    out += fmt::format("{},{},{},{},{},{},{},{},{},{}\n", l.index + 1, v(l.displacement_mm), v(l.nominal_strain),
-                       v(l.pressure_kPa), v(l.load_N), v(l.measured_T), pred ? v(l.predicted_T) : "",
-                       pred ? v(l.predicted_T_stderr) : "", v(l.relative_difference), l.completed ? 1 : 0);
+    out +=
+        fmt::format("{},{},{},{},{},{},{},{},{},{}\n", l.index + 1, v(l.displacement_mm), v(l.nominal_strain),
+                    v(l.pressure_kPa), v(l.load_N), v(l.measured_T), pred ? v(l.predicted_T) : "",
+                    pred ? v(l.predicted_T_stderr) : "", v(l.relative_difference), l.completed ? 1 : 0);
   }
   return out;
 }

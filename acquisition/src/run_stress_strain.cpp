@@ -20,7 +20,8 @@ RunStressStrain stress_strain_from_run(const db::Reader& reader, std::int64_t ru
     throw Error(fmt::format("run {} has no sample thickness: strain cannot be computed", run_id));
   const auto d_ch = reader.channel(run_id, "displacement");
   const auto f_ch = reader.channel(run_id, "load");
-  if (!d_ch || !f_ch) throw Error(fmt::format("run {} has no displacement and load channels (no tester)", run_id));
+  if (!d_ch || !f_ch)
+    throw Error(fmt::format("run {} has no displacement and load channels (no tester)", run_id));
   const std::vector<db::Sample> d = reader.samples(d_ch->id);
   const std::vector<db::Sample> f = reader.samples(f_ch->id);
 

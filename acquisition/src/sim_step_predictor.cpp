@@ -27,7 +27,8 @@ SimStepPredictor::SimStepPredictor(std::shared_ptr<sim::study::Predictor> predic
   if (!predictor_) throw ConfigError("SimStepPredictor needs a sim::study::Predictor");
 }
 
-sim::study::PredictionRequest SimStepPredictor::request_for(double displacement_mm, double thickness_mm) const {
+sim::study::PredictionRequest SimStepPredictor::request_for(double displacement_mm,
+                                                            double thickness_mm) const {
   sim::study::PredictionRequest r;
   r.displacement_mm = displacement_mm;
   r.thickness_mm = thickness_mm;

@@ -20,7 +20,8 @@ sim::material::OgdenParameters scaled_material(double scale) {
 }
 
 void check_spec(const SimTissueSpec& s) {
-  if (!(s.thickness_mm > 0)) throw ConfigError(fmt::format("simulated tissue: thickness {} mm must be > 0", s.thickness_mm));
+  if (!(s.thickness_mm > 0))
+    throw ConfigError(fmt::format("simulated tissue: thickness {} mm must be > 0", s.thickness_mm));
   if (!(s.stiffness_scale > 0)) throw ConfigError("simulated tissue: stiffness_scale must be > 0");
   if (s.displacements_mm.empty()) throw ConfigError("simulated tissue: no displacements to tabulate");
   double last = 0;
@@ -46,8 +47,8 @@ std::shared_ptr<TissueModel> make_simulated_tissue(const SimTissueSpec& spec, Si
   sim::fe::FeModel model = sim::fe::FeModel::published_default();
   model.thickness_mm = spec.thickness_mm;
   model.material = material;
-  say(fmt::format("simulated sample: FE of {:.2f} mm skin (stiffness x{:.2f}) to {:.3f} mm", spec.thickness_mm,
-                  spec.stiffness_scale, spec.displacements_mm.back()));
+  say(fmt::format("simulated sample: FE of {:.2f} mm skin (stiffness x{:.2f}) to {:.3f} mm",
+                  spec.thickness_mm, spec.stiffness_scale, spec.displacements_mm.back()));
   const sim::fe::FeResult fe = sim::fe::solve(model, spec.displacements_mm);
   if (!fe.complete || fe.steps.size() != spec.displacements_mm.size())
     throw Error(fmt::format("simulated tissue: FE stopped before {} mm: {}", spec.displacements_mm.back(),
@@ -81,7 +82,8 @@ std::shared_ptr<TissueModel> make_simulated_tissue(const SimTissueSpec& spec, Si
   for (double d : table.displacement_mm) {
     const sim::study::Prediction p = predictor.predict(request(d));
     const double T = p.T / base.T;
-    const double rel = std::sqrt(std::pow(p.T_stderr / std::max(p.T, 1e-300), 2) + std::pow(base.T_stderr / base.T, 2));
+    const double rel =
+        std::sqrt(std::pow(p.T_stderr / std::max(p.T, 1e-300), 2) + std::pow(base.T_stderr / base.T, 2));
     table.transmission.push_back(T);
     table.transmission_stderr.push_back(T * rel);
     say(fmt::format("simulated sample: d = {:.3f} mm  load {:.4f} N  T/T0 {:.4f}", d,

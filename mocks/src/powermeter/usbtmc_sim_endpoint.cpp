@@ -207,7 +207,9 @@ std::unique_ptr<devices::UsbBulkEndpoint> plug_in(const std::shared_ptr<PowerMet
 }
 }  // namespace
 
-std::unique_ptr<devices::UsbBulkEndpoint> PowerMeterTwin::open_usb_endpoint() { return plug_in(impl_); }
+std::unique_ptr<devices::UsbBulkEndpoint> PowerMeterTwin::open_usb_endpoint() {
+  return plug_in(impl_);
+}
 
 devices::UsbEndpointOpener PowerMeterTwin::usb_opener() {
   // Holds the meter weakly: an opener kept after the twin is gone finds no device.

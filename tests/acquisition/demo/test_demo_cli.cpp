@@ -55,8 +55,8 @@ class Demo : public ::testing::Test {
   static void TearDownTestSuite() { fs::remove_all(dir_); }
 
   static int run(const std::string& args) {
-    const std::string cmd = fmt::format("{} {} > {} 2> {}", TOCDLAB_EXE, args, (dir_ / "out").string(),
-                                        (dir_ / "err").string());
+    const std::string cmd =
+        fmt::format("{} {} > {} 2> {}", TOCDLAB_EXE, args, (dir_ / "out").string(), (dir_ / "err").string());
     const int rc = std::system(cmd.c_str());
     last_out_ = slurp(dir_ / "out") + slurp(dir_ / "err");
     return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;

@@ -1,6 +1,4 @@
 // Nominal stress-strain data from a recorded run (the input of `tocdlab fit --db`).
-#include "tocd/acquisition/run_stress_strain.hpp"
-
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -9,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include "tocd/acquisition/run_stress_strain.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
@@ -20,7 +19,9 @@ namespace acq = tocd::acquisition;
 namespace {
 
 constexpr double kThickness = 2.0, kRadius = 1.5;
-double load_of(double d) { return 0.05 * d * d + 0.01 * d; }
+double load_of(double d) {
+  return 0.05 * d * d + 0.01 * d;
+}
 
 // A run whose pin goes 0 -> 1.2 mm (loading), holds with the load relaxing, and retracts.
 std::int64_t record_run(const fs::path& path, bool with_thickness) {
@@ -47,7 +48,7 @@ std::int64_t record_run(const fs::path& path, bool with_thickness) {
     t += 1000;
   };
   for (int i = -100; i <= 1200; ++i) put(i * 1e-3, i > 0 ? load_of(i * 1e-3) : 0.0);
-  for (int i = 0; i < 500; ++i) put(1.2, 0.5 * load_of(1.2));     // relaxation while holding: excluded
+  for (int i = 0; i < 500; ++i) put(1.2, 0.5 * load_of(1.2));  // relaxation while holding: excluded
   for (int i = 1200; i >= 0; i -= 2) put(i * 1e-3, 0.2 * load_of(i * 1e-3));  // retraction: excluded
   w.flush();
   w.stop();

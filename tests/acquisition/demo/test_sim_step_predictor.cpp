@@ -1,10 +1,10 @@
 // The adapter from recorded steps to the FE + mesh + Monte Carlo predictor.
-#include "tocd/acquisition/sim_step_predictor.hpp"
-
 #include <cmath>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+
+#include "tocd/acquisition/sim_step_predictor.hpp"
 
 namespace acq = tocd::acquisition;
 

@@ -82,7 +82,8 @@ void run_demo(const DemoOptions& o) {
   namespace acq = tocd::acquisition;
   const acq::Protocol protocol = o.protocol.empty() ? acq::parse_protocol(kDemoProtocol, "demo protocol")
                                                     : acq::load_protocol(o.protocol);
-  if (protocol.kind == acq::StepKind::vacuum) throw tocd::ConfigError("tocdlab demo runs pin-compression protocols");
+  if (protocol.kind == acq::StepKind::vacuum)
+    throw tocd::ConfigError("tocdlab demo runs pin-compression protocols");
   const std::string csv_path =
       o.csv.empty() ? std::filesystem::path(o.db).replace_extension(".csv").string() : o.csv;
 
@@ -118,7 +119,8 @@ void run_demo(const DemoOptions& o) {
   ps.photons = o.photons;
   ps.seed = o.seed;
   ps.mc_threads = o.threads;
-  auto predictor = std::make_shared<acq::SimStepPredictor>(std::make_shared<tocd::sim::study::Predictor>(1), ps);
+  auto predictor =
+      std::make_shared<acq::SimStepPredictor>(std::make_shared<tocd::sim::study::Predictor>(1), ps);
 
   tocd::db::Database db(o.db);
   acq::EngineOptions eo;
@@ -151,8 +153,9 @@ void run_demo(const DemoOptions& o) {
     std::cout << acq::to_json(t).dump(2) << '\n';
   } else {
     std::cout << '\n' << acq::format_compare_table(t);
-    std::cout << "T = transmitted power / glass-only baseline power; predicted T from the FE + Monte Carlo model "
-                 "(published Ogden skin, threshold optics) +- its Monte Carlo standard error.\n";
+    std::cout
+        << "T = transmitted power / glass-only baseline power; predicted T from the FE + Monte Carlo model "
+           "(published Ogden skin, threshold optics) +- its Monte Carlo standard error.\n";
   }
   std::cout << fmt::format("database: {}  (tocdlab compare --db {} --run {})\ncsv: {}\n", o.db, o.db, run_id,
                            csv_path);
@@ -161,7 +164,9 @@ void run_demo(const DemoOptions& o) {
   std::size_t missing = 0;
   for (const auto& l : t.lines)
     if (!l.completed || !l.has_prediction) ++missing;
-  if (missing > 0) throw tocd::Error(fmt::format("demo run {}: {} step(s) without a measured and predicted T", run_id, missing));
+  if (missing > 0)
+    throw tocd::Error(
+        fmt::format("demo run {}: {} step(s) without a measured and predicted T", run_id, missing));
 }
 
 void install_demo(CLI::App& root) {
@@ -170,15 +175,18 @@ void install_demo(CLI::App& root) {
   auto o = std::make_shared<DemoOptions>();
   cmd->add_option("--db", o->db, "measurement database file (created when absent; runs are appended)")
       ->capture_default_str();
-  cmd->add_option("--csv", o->csv, "measured vs. predicted table as CSV (default: the database name with .csv)");
+  cmd->add_option("--csv", o->csv,
+                  "measured vs. predicted table as CSV (default: the database name with .csv)");
   cmd->add_option("--photons", o->photons, "Monte Carlo photons per predicted step")->capture_default_str();
   cmd->add_option("--sample-photons", o->sample_photons,
                   "Monte Carlo photons per point of the simulated sample's transmission curve")
       ->capture_default_str();
   cmd->add_option("--seed", o->seed, "random seed (predictions and instrument noise)")->capture_default_str();
   cmd->add_option("--threads", o->threads, "Monte Carlo threads (0 = all cores)")->capture_default_str();
-  cmd->add_option("--clock-factor", o->clock_factor, "simulated seconds per real second")->capture_default_str();
-  cmd->add_option("--protocol", o->protocol, "another pin-compression protocol TOML instead of the built-in one");
+  cmd->add_option("--clock-factor", o->clock_factor, "simulated seconds per real second")
+      ->capture_default_str();
+  cmd->add_option("--protocol", o->protocol,
+                  "another pin-compression protocol TOML instead of the built-in one");
   cmd->add_flag("--json", o->json, "print the compare table as JSON");
   cmd->callback([o] { run_demo(*o); });
 }

@@ -26,18 +26,21 @@ struct FitCliOptions {
 
 void run_fit(const FitCliOptions& o) {
   namespace mat = tocd::sim::material;
-  if (o.csv.empty() == o.db.empty()) throw tocd::ConfigError("give exactly one of --csv FILE or --db FILE --run ID");
+  if (o.csv.empty() == o.db.empty())
+    throw tocd::ConfigError("give exactly one of --csv FILE or --db FILE --run ID");
   mat::StressStrainData d;
   if (!o.csv.empty()) {
     d = mat::read_stress_strain_csv(o.csv);
   } else {
     if (o.run <= 0) throw tocd::ConfigError("--db needs --run ID (see tocdlab runs --db FILE)");
-    const auto ss = tocd::acquisition::stress_strain_from_run(tocd::db::Reader(o.db), o.run, o.pin_radius, o.bins);
+    const auto ss =
+        tocd::acquisition::stress_strain_from_run(tocd::db::Reader(o.db), o.run, o.pin_radius, o.bins);
     d.strain = ss.strain;
     d.stress = ss.stress_MPa;
     if (!o.json)
-      std::cout << fmt::format("run {}: {} load/displacement pairs on the loading branch, {} mm sample, pin radius {} mm\n",
-                               o.run, ss.pairs_used, ss.thickness_mm, ss.pin_radius_mm);
+      std::cout << fmt::format(
+          "run {}: {} load/displacement pairs on the loading branch, {} mm sample, pin radius {} mm\n", o.run,
+          ss.pairs_used, ss.thickness_mm, ss.pin_radius_mm);
   }
   mat::FitOptions opt;
   opt.compression = !o.signed_data;
@@ -84,7 +87,8 @@ void install_fit(CLI::App& root) {
   cmd->add_option("--run", o->run, "run id in --db");
   cmd->add_option("--pin-radius", o->pin_radius, "pin radius [mm] for stress = load / (pi r^2) (--db)")
       ->capture_default_str();
-  cmd->add_option("--bins", o->bins, "strain bins the run's samples are averaged in (--db)")->capture_default_str();
+  cmd->add_option("--bins", o->bins, "strain bins the run's samples are averaged in (--db)")
+      ->capture_default_str();
   cmd->add_option("--model", o->model, "ogden1 | ogden2 | ogden3 | neo-hookean | mooney-rivlin | yeoh")
       ->capture_default_str();
   cmd->add_option("--poisson", o->poisson, "Poisson's ratio that sets D1 from the fitted shear modulus")

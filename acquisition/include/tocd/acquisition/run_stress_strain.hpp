@@ -23,7 +23,8 @@ struct RunStressStrain {
 /// holds with their relaxing load and the retraction do not enter), and averages them in `bins`
 /// equal strain bins. Throws tocd::Error when the run has no load/displacement channels, no
 /// sample thickness, or fewer than `min_points` filled bins.
-RunStressStrain stress_strain_from_run(const db::Reader& reader, std::int64_t run_id, double pin_radius_mm = 1.5,
-                                       std::size_t bins = 40, std::size_t min_points = 8);
+RunStressStrain stress_strain_from_run(const db::Reader& reader, std::int64_t run_id,
+                                       double pin_radius_mm = 1.5, std::size_t bins = 40,
+                                       std::size_t min_points = 8);
 
 }  // namespace tocd::acquisition

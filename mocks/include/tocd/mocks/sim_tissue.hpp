@@ -19,7 +19,7 @@ struct SimTissueSpec {
   double thickness_mm = 2.0;
   /// Shear moduli of the published Ogden fit times this (D_1 divided by it: same Poisson's ratio).
   double stiffness_scale = 1.25;
-  std::string optics_model = "graded";  ///< "threshold" | "graded"
+  std::string optics_model = "graded";                                    ///< "threshold" | "graded"
   std::vector<double> displacements_mm{0.25, 0.5, 0.75, 1.0, 1.25, 1.5};  ///< > 0, ascending
   std::uint64_t photons = 50000;
   std::uint64_t seed = 7;
@@ -38,6 +38,7 @@ struct SimTissueTable {
 /// and returns the tabulated tissue. Transmission is relative to the glass-only geometry, as
 /// the power meter sees it against a glass-only baseline. Throws tocd::Error subclasses when
 /// the simulator fails (bad spec, FE not converging at a requested displacement, meshing).
-std::shared_ptr<TissueModel> make_simulated_tissue(const SimTissueSpec& spec, SimTissueTable* table = nullptr);
+std::shared_ptr<TissueModel> make_simulated_tissue(const SimTissueSpec& spec,
+                                                   SimTissueTable* table = nullptr);
 
 }  // namespace tocd::mocks
