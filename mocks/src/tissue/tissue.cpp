@@ -88,9 +88,9 @@ std::shared_ptr<TissueModel> make_tabulated_tissue(std::vector<double> d_mm, std
                     d_mm.size(), load_N.size(), transmission.size()));
   for (std::size_t i = 0; i < d_mm.size(); ++i) {
     if (!std::isfinite(d_mm[i]) || !std::isfinite(load_N[i]) || !std::isfinite(transmission[i]) ||
-        transmission[i] < 0.0 || transmission[i] > 1.0)
+        transmission[i] < 0.0 || transmission[i] > 2.0)
       throw ConfigError(
-          fmt::format("tabulated tissue point {}: values must be finite, transmission in [0, 1] "
+          fmt::format("tabulated tissue point {}: values must be finite, transmission in [0, 2] "
                       "(got d = {}, load = {}, T = {})",
                       i, d_mm[i], load_N[i], transmission[i]));
     if (i > 0 && !(d_mm[i] > d_mm[i - 1]))

@@ -42,35 +42,29 @@ std::vector<std::vector<std::string>> read_csv(const fs::path& p) {
   return rows;
 }
 
-class Demo : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    dir_ = fs::temp_directory_path() / fmt::format("tocd_demo_{}", ::getpid());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    rc_ = run(fmt::format("demo --db {} --photons 4000 --sample-photons 4000 --clock-factor 4",
-                          (dir_ / "demo.db").string()));
-    out_ = last_out_;
-  }
-  static void TearDownTestSuite() { fs::remove_all(dir_); }
+fs::path g_dir;
+std::string g_out;
 
-  static int run(const std::string& args) {
-    const std::string cmd =
-        fmt::format("{} {} > {} 2> {}", TOCDLAB_EXE, args, (dir_ / "out").string(), (dir_ / "err").string());
-    const int rc = std::system(cmd.c_str());
-    last_out_ = slurp(dir_ / "out") + slurp(dir_ / "err");
-    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-  }
+int tocdlab(const std::string& args) {
+  const std::string cmd =
+      fmt::format("{} {} > {} 2> {}", TOCDLAB_EXE, args, (g_dir / "out").string(), (g_dir / "err").string());
+  const int rc = std::system(cmd.c_str());
+  g_out = slurp(g_dir / "out") + slurp(g_dir / "err");
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
 
-  static inline fs::path dir_;
-  static inline int rc_ = -1;
-  static inline std::string out_, last_out_;
-};
+// One test: the demo is the expensive part and runs once.
+TEST(Demo, EveryStepMeasuredAndPredictedCsvMatchesDatabaseAndRunCanBeFitted) {
+  g_dir = fs::temp_directory_path() / fmt::format("tocd_demo_{}", ::getpid());
+  fs::remove_all(g_dir);
+  fs::create_directories(g_dir);
+  const std::string db = (g_dir / "demo.db").string();
+  ASSERT_EQ(tocdlab(fmt::format("demo --db {} --photons 4000 --sample-photons 4000 --clock-factor 4", db)), 0)
+      << g_out;
+  EXPECT_NE(g_out.find("predicted T"), std::string::npos) << g_out;
 
-TEST_F(Demo, CompletesWithMeasuredAndPredictedTForEveryStep) {
-  ASSERT_EQ(rc_, 0) << out_;
-  EXPECT_NE(out_.find("predicted T"), std::string::npos) << out_;
-  const auto rows = read_csv(dir_ / "demo.csv");
+  // Every step has a measured and a predicted T in the CSV.
+  const auto rows = read_csv(g_dir / "demo.csv");
   ASSERT_EQ(rows.size(), 8u) << "header + 7 steps";
   std::vector<double> measured, predicted;
   for (std::size_t i = 1; i < rows.size(); ++i) {
@@ -79,35 +73,35 @@ TEST_F(Demo, CompletesWithMeasuredAndPredictedTForEveryStep) {
     ASSERT_FALSE(rows[i][6].empty()) << "predicted T of step " << i;
     measured.push_back(std::stod(rows[i][5]));
     predicted.push_back(std::stod(rows[i][6]));
+    // Relative to glass only; a little above 1 is possible (the skin frustrates the total
+    // internal reflection at the pin tip that the glass-only reference suffers).
     EXPECT_GT(measured.back(), 0.0);
-    EXPECT_LT(measured.back(), 1.0);
+    EXPECT_LT(measured.back(), 1.3);
     EXPECT_GT(predicted.back(), 0.0);
-    EXPECT_LT(predicted.back(), 1.0);
+    EXPECT_LT(predicted.back(), 1.3);
   }
-  // Compression clears the tissue: deepest step transmits clearly more than contact, in the
-  // simulated sample and in the model (differences far above the few-percent noise here).
+  // Compression clears the tissue: the deepest step transmits far more than contact, in the
+  // simulated sample and in the model (factor ~5 at 1.5 mm; noise here is a few percent).
   EXPECT_GT(measured.back(), 1.5 * measured.front());
   EXPECT_GT(predicted.back(), 1.5 * predicted.front());
-}
 
-TEST_F(Demo, CsvEqualsWhatTheDatabaseHolds) {
-  ASSERT_EQ(rc_, 0) << out_;
-  const tocd::db::Reader reader((dir_ / "demo.db").string());
-  const auto runs = reader.runs();
-  ASSERT_EQ(runs.size(), 1u);
-  const auto table = tocd::acquisition::compare_table(reader, runs.front().run.id);
-  EXPECT_EQ(tocd::acquisition::format_compare_csv(table), slurp(dir_ / "demo.csv"));
-  EXPECT_EQ(table.status, "completed");
-}
+  // The CSV is the database's compare table.
+  {
+    const tocd::db::Reader reader(db);
+    const auto runs = reader.runs();
+    ASSERT_EQ(runs.size(), 1u);
+    const auto table = tocd::acquisition::compare_table(reader, runs.front().run.id);
+    EXPECT_EQ(tocd::acquisition::format_compare_csv(table), slurp(g_dir / "demo.csv"));
+    EXPECT_EQ(table.status, "completed");
+  }
 
-TEST_F(Demo, FitFromTheRecordedRun) {
-  ASSERT_EQ(rc_, 0) << out_;
-  const int rc = run(fmt::format("fit --db {} --run 1 --model ogden1", (dir_ / "demo.db").string()));
-  EXPECT_EQ(rc, 0) << last_out_;
-  EXPECT_NE(last_out_.find("ogden1 fit to"), std::string::npos) << last_out_;
-  EXPECT_NE(last_out_.find("R^2"), std::string::npos) << last_out_;
-  EXPECT_NE(run(fmt::format("fit --db {} --run 99", (dir_ / "demo.db").string())), 0);
-  EXPECT_NE(last_out_.find("99"), std::string::npos) << last_out_;
+  // The recorded load/displacement feeds a material fit; an unknown run is a clear error.
+  EXPECT_EQ(tocdlab(fmt::format("fit --db {} --run 1 --model ogden1", db)), 0) << g_out;
+  EXPECT_NE(g_out.find("ogden1 fit to"), std::string::npos) << g_out;
+  EXPECT_NE(g_out.find("R^2"), std::string::npos) << g_out;
+  EXPECT_NE(tocdlab(fmt::format("fit --db {} --run 99", db)), 0);
+  EXPECT_NE(g_out.find("99"), std::string::npos) << g_out;
+  fs::remove_all(g_dir);
 }
 
 }  // namespace

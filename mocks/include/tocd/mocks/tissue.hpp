@@ -11,7 +11,10 @@ namespace tocd::mocks {
 struct TissueModel {
   virtual ~TissueModel() = default;
   virtual double load_N(double displacement_mm) const = 0;        ///< equilibrium (before relaxation)
-  virtual double transmission(double displacement_mm) const = 0;  ///< fraction of source power
+  /// Transmitted power over the source power. The source power is the glass-only reference
+  /// reading, so this may exceed 1 slightly: skin in optical contact with the pin tip
+  /// frustrates the total internal reflection the glass-only reference suffers there.
+  virtual double transmission(double displacement_mm) const = 0;
 };
 
 /// Parameters of the analytic stand-in (docs/instruments/simulated-lab.md, "Tissue").
@@ -33,7 +36,8 @@ std::shared_ptr<TissueModel> make_analytic_tissue(double thickness_mm);
 std::shared_ptr<TissueModel> make_analytic_tissue(const AnalyticTissueParams& params);
 
 /// Piecewise-linear curves (from FE/MC runs or measurements) on increasing displacements
-/// starting at 0; held constant beyond the last point. Throws ConfigError on bad tables.
+/// starting at 0; held constant beyond the last point. Throws ConfigError on bad tables
+/// (non-finite values, transmission outside [0, 2], displacements not increasing).
 std::shared_ptr<TissueModel> make_tabulated_tissue(std::vector<double> d_mm, std::vector<double> load_N,
                                                    std::vector<double> transmission);
 
