@@ -87,7 +87,9 @@ class CliRun : public ::testing::Test {
 TEST_F(CliRun, RunsCompareExportOnTheSimulatedLab) {
   const auto p = write("p.toml", protocol(1.0));
   const auto db = dir_ / "lab.db";
-  ASSERT_EQ(tocdlab(fmt::format("run {} --simulated --clock-factor 20 --db {}", p.string(), db.string())), 0)
+  ASSERT_EQ(tocdlab(fmt::format("run {} --simulated --clock-factor 20 --photons 3000 --db {}", p.string(),
+                                db.string())),
+            0)
       << err_;
   EXPECT_NE(out_.find("step 3/3 recorded"), std::string::npos) << out_;
   EXPECT_NE(out_.find("run 1 completed"), std::string::npos) << out_;
@@ -103,7 +105,10 @@ TEST_F(CliRun, RunsCompareExportOnTheSimulatedLab) {
     EXPECT_GT(s["load_N"].get<double>(), previous_load);
     previous_T = s["measured_T"].get<double>();
     previous_load = s["load_N"].get<double>();
-    EXPECT_TRUE(s["predicted_T"].is_null());  // no predictor in `run` yet
+    // Every step predicted by the simulator (T relative to glass only, few photons here).
+    ASSERT_FALSE(s["predicted_T"].is_null());
+    EXPECT_GT(s["predicted_T"].get<double>(), 0.0);
+    EXPECT_GT(s["predicted_T_stderr"].get<double>(), 0.0);
   }
   EXPECT_DOUBLE_EQ(j["steps"][1]["nominal_strain"].get<double>(), 0.2);
 
@@ -122,7 +127,7 @@ TEST_F(CliRun, MalformedProtocolNamesLineAndKeyAndCreatesNothing) {
   text.replace(text.find("record_s = 1"), 12, "record_s = \"one\"");
   const auto p = write("bad.toml", text);
   const auto db = dir_ / "lab.db";
-  EXPECT_EQ(tocdlab(fmt::format("run {} --simulated --db {}", p.string(), db.string())), 1);
+  EXPECT_EQ(tocdlab(fmt::format("run {} --simulated --no-predict --db {}", p.string(), db.string())), 1);
   EXPECT_NE(err_.find("bad.toml:13: [steps] record_s: must be a number"), std::string::npos) << err_;
   EXPECT_FALSE(fs::exists(db));
 }
@@ -133,7 +138,7 @@ TEST_F(CliRun, NotADatabaseIsRefusedAndLeftAlone) {
   EXPECT_NE(err_.find("error"), std::string::npos);
   EXPECT_EQ(slurp(notdb), "these are my notes, not a database\n");
   const auto p = write("p.toml", protocol(1.0));
-  EXPECT_EQ(tocdlab(fmt::format("run {} --simulated --db {}", p.string(), notdb.string())), 1);
+  EXPECT_EQ(tocdlab(fmt::format("run {} --simulated --no-predict --db {}", p.string(), notdb.string())), 1);
   EXPECT_EQ(slurp(notdb), "these are my notes, not a database\n");
 }
 
@@ -142,9 +147,9 @@ TEST_F(CliRun, SigintAbortsGracefullyAndTheRunResumes) {
   const auto db = dir_ / "lab.db";
   const std::string out = (dir_ / "out").string();
   std::string exe = TOCDLAB_EXE, a1 = "run", a2 = p.string(), a3 = "--simulated", a4 = "--clock-factor",
-              a5 = "5", a6 = "--db", a7 = db.string();
+              a5 = "5", a6 = "--db", a7 = db.string(), a8 = "--no-predict";
   char* args[] = {exe.data(), a1.data(), a2.data(), a3.data(), a4.data(),
-                  a5.data(),  a6.data(), a7.data(), nullptr};
+                  a5.data(),  a6.data(), a7.data(), a8.data(), nullptr};
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
@@ -175,7 +180,9 @@ TEST_F(CliRun, SigintAbortsGracefullyAndTheRunResumes) {
   }
   // --resume continues the same run; a shorter protocol is not needed: it redoes from step 1
   // at a fast clock.
-  ASSERT_EQ(tocdlab(fmt::format("run --resume 1 --simulated --clock-factor 60 --db {}", db.string())), 0)
+  ASSERT_EQ(
+      tocdlab(fmt::format("run --resume 1 --simulated --no-predict --clock-factor 60 --db {}", db.string())),
+      0)
       << err_;
   EXPECT_NE(out_.find("run 1 completed"), std::string::npos) << out_;
   const tocd::db::Reader r(db);

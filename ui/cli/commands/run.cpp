@@ -15,6 +15,7 @@
 #include "tocd/acquisition/compare_table.hpp"
 #include "tocd/acquisition/engine.hpp"
 #include "tocd/acquisition/protocol.hpp"
+#include "tocd/acquisition/sim_step_predictor.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/devices/lab.hpp"
@@ -26,8 +27,9 @@ namespace {
 struct RunOptions {
   std::string protocol, lab, db, operator_name;
   std::optional<std::int64_t> resume;
-  bool simulated = false;
+  bool simulated = false, no_predict = false;
   double clock_factor = 1.0;
+  std::uint64_t photons = 100000, seed = 1;
 };
 
 std::string read_text(const std::string& path) {
@@ -91,7 +93,15 @@ void run_protocol(const RunOptions& o) {
   std::int64_t run_id = 0;
   std::string error;
   {
-    acq::Engine engine(db, std::move(instruments), eo, nullptr, &progress);
+    std::shared_ptr<acq::StepPredictor> predictor;
+    if (!o.no_predict && protocol.kind != acq::StepKind::vacuum) {
+      acq::SimPredictorSettings ps;
+      ps.photons = o.photons;
+      ps.seed = o.seed;
+      predictor =
+          std::make_shared<acq::SimStepPredictor>(std::make_shared<tocd::sim::study::Predictor>(1), ps);
+    }
+    acq::Engine engine(db, std::move(instruments), eo, predictor, &progress);
     signals.attach(&engine);
     run_id = o.resume ? engine.resume(*o.resume) : engine.start(protocol);
     std::cout << fmt::format("run {} ({} steps) recording into {}", run_id, protocol.steps.size(), o.db)
@@ -128,6 +138,10 @@ void install_run(CLI::App& root) {
   cmd->add_option("--clock-factor", o->clock_factor, "simulated seconds per real second (--simulated only)")
       ->capture_default_str();
   cmd->add_option("--operator", o->operator_name, "operator name stored with the run");
+  cmd->add_option("--photons", o->photons, "Monte Carlo photons per predicted step (FE + mesh + MC per step)")
+      ->capture_default_str();
+  cmd->add_option("--seed", o->seed, "random seed of the predictions")->capture_default_str();
+  cmd->add_flag("--no-predict", o->no_predict, "record only; no simulator prediction per step");
   cmd->callback([o] { run_protocol(*o); });
 }
 
