@@ -14,6 +14,23 @@
 #include "tocd/devices/register_codec.hpp"
 
 namespace tocd::mocks {
+
+std::vector<std::uint16_t> holding_after_write(const modbus_mapping_t& map, WriteRange range,
+                                               const std::uint16_t* values) {
+  std::vector<std::uint16_t> hr(map.tab_registers, map.tab_registers + map.nb_registers);
+  std::copy(values, values + range.count, hr.begin() + range.address);
+  return hr;
+}
+
+void put_float(std::uint16_t* regs, int at, double value) {
+  const auto r = devices::float_to_registers(static_cast<float>(value));
+  regs[at] = r[0];
+  regs[at + 1] = r[1];
+}
+
+float get_float(const std::uint16_t* regs, int at) {
+  return devices::registers_to_float(regs[at], regs[at + 1]);
+}
 namespace {
 
 struct Request {

@@ -3,12 +3,29 @@
 #include <cstdint>
 #include <mutex>
 #include <random>
+#include <vector>
 
 #include <modbus/modbus.h>
 
 #include "modbus_server/fault_queue.hpp"
 
 namespace tocd::mocks {
+
+/// The holding-register range a write covers.
+struct WriteRange {
+  int address = 0, count = 0;
+  bool touched(int reg) const { return reg >= address && reg < address + count; }
+  /// Either register of the two-register float starting at `reg`.
+  bool touched_float(int reg) const { return touched(reg) || touched(reg + 1); }
+};
+
+/// The holding registers as they would be after writing `values` over `range`.
+std::vector<std::uint16_t> holding_after_write(const modbus_mapping_t& map, WriteRange range,
+                                               const std::uint16_t* values);
+
+/// A float over two registers at `at` (word order of devices/register_codec).
+void put_float(std::uint16_t* regs, int at, double value);
+float get_float(const std::uint16_t* regs, int at);
 
 /// The instrument behind a Modbus server: keeps its registers current and acts on writes.
 /// All three calls happen with the server's state mutex held.

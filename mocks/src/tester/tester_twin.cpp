@@ -29,16 +29,8 @@
 namespace tocd::mocks {
 
 namespace m = tocd::devices::tester_map;
-using tocd::devices::float_to_registers;
-using tocd::devices::registers_to_float;
 
 namespace {
-
-void put_float(std::uint16_t* regs, int at, double v) {
-  const auto r = float_to_registers(static_cast<float>(v));
-  regs[at] = r[0];
-  regs[at + 1] = r[1];
-}
 
 /// The register view of TesterPhysics.
 class TesterRegisters final : public RegisterDevice {
@@ -62,23 +54,20 @@ class TesterRegisters final : public RegisterDevice {
 
   int check_write(const modbus_mapping_t& map, int address, int count, const std::uint16_t* values) override {
     // What the holding registers would hold after the write.
-    std::vector<std::uint16_t> hr(map.tab_registers, map.tab_registers + map.nb_registers);
-    std::copy(values, values + count, hr.begin() + address);
-    auto touched = [&](int reg) { return reg >= address && reg < address + count; };
-    if (touched(m::hr_max_travel) || touched(m::hr_max_travel + 1) || touched(m::hr_max_load) ||
-        touched(m::hr_max_load + 1)) {
-      const float travel = registers_to_float(hr[m::hr_max_travel], hr[m::hr_max_travel + 1]);
-      const float load = registers_to_float(hr[m::hr_max_load], hr[m::hr_max_load + 1]);
+    const WriteRange w{address, count};
+    const std::vector<std::uint16_t> hr = holding_after_write(map, w, values);
+    if (w.touched_float(m::hr_max_travel) || w.touched_float(m::hr_max_load)) {
+      const float travel = get_float(hr.data(), m::hr_max_travel);
+      const float load = get_float(hr.data(), m::hr_max_load);
       if (!std::isfinite(travel) || !std::isfinite(load) || travel <= 0 || load <= 0) return 3;
     }
-    if (!touched(m::hr_command)) return 0;
+    if (!w.touched(m::hr_command)) return 0;
     const std::uint16_t cmd = hr[m::hr_command];
     if (cmd > m::cmd_clear_fault) return 3;
     if (cmd == m::cmd_move) {
       // Validated here so that a refused move answers an exception and changes nothing.
       TesterPhysics probe = physics_;
-      return probe.move(registers_to_float(hr[m::hr_target], hr[m::hr_target + 1]),
-                        registers_to_float(hr[m::hr_velocity], hr[m::hr_velocity + 1]));
+      return probe.move(get_float(hr.data(), m::hr_target), get_float(hr.data(), m::hr_velocity));
     }
     if (cmd == m::cmd_home) {
       TesterPhysics probe = physics_;
@@ -89,15 +78,13 @@ class TesterRegisters final : public RegisterDevice {
 
   void after_write(modbus_mapping_t& map, int address, int count) override {
     std::uint16_t* hr = map.tab_registers;
-    auto touched = [&](int reg) { return reg >= address && reg < address + count; };
-    if (touched(m::hr_max_travel) || touched(m::hr_max_load + 1))
-      physics_.set_limits(registers_to_float(hr[m::hr_max_travel], hr[m::hr_max_travel + 1]),
-                          registers_to_float(hr[m::hr_max_load], hr[m::hr_max_load + 1]));
-    if (!touched(m::hr_command)) return;
+    const WriteRange w{address, count};
+    if (w.touched(m::hr_max_travel) || w.touched(m::hr_max_load + 1))
+      physics_.set_limits(get_float(hr, m::hr_max_travel), get_float(hr, m::hr_max_load));
+    if (!w.touched(m::hr_command)) return;
     switch (hr[m::hr_command]) {
       case m::cmd_move:
-        physics_.move(registers_to_float(hr[m::hr_target], hr[m::hr_target + 1]),
-                      registers_to_float(hr[m::hr_velocity], hr[m::hr_velocity + 1]));
+        physics_.move(get_float(hr, m::hr_target), get_float(hr, m::hr_velocity));
         break;
       case m::cmd_stop:
         physics_.stop();

@@ -26,16 +26,8 @@
 namespace tocd::mocks {
 
 namespace m = tocd::devices::vacuum_map;
-using tocd::devices::float_to_registers;
-using tocd::devices::registers_to_float;
 
 namespace {
-
-void put_float(std::uint16_t* regs, int at, double v) {
-  const auto r = float_to_registers(static_cast<float>(v));
-  regs[at] = r[0];
-  regs[at + 1] = r[1];
-}
 
 class VacuumRegisters final : public RegisterDevice {
  public:
@@ -57,30 +49,27 @@ class VacuumRegisters final : public RegisterDevice {
   }
 
   int check_write(const modbus_mapping_t& map, int address, int count, const std::uint16_t* values) override {
-    std::vector<std::uint16_t> hr(map.tab_registers, map.tab_registers + map.nb_registers);
-    std::copy(values, values + count, hr.begin() + address);
-    auto touched = [&](int reg) { return reg >= address && reg < address + count; };
+    const WriteRange w{address, count};
+    const std::vector<std::uint16_t> hr = holding_after_write(map, w, values);
     VacuumPhysics probe = physics_;
-    if (touched(m::hr_setpoint) || touched(m::hr_setpoint + 1))
-      if (const int e = probe.set_setpoint(registers_to_float(hr[m::hr_setpoint], hr[m::hr_setpoint + 1])))
-        return e;
-    if (touched(m::hr_pump_run)) {
+    if (w.touched_float(m::hr_setpoint))
+      if (const int e = probe.set_setpoint(get_float(hr.data(), m::hr_setpoint))) return e;
+    if (w.touched(m::hr_pump_run)) {
       if (hr[m::hr_pump_run] > 1) return 3;
       if (const int e = probe.run_pump(hr[m::hr_pump_run] == 1)) return e;
     }
-    if (touched(m::hr_vent) && hr[m::hr_vent] > 1) return 3;
-    if (touched(m::hr_clear_error) && hr[m::hr_clear_error] > 1) return 3;
+    if (w.touched(m::hr_vent) && hr[m::hr_vent] > 1) return 3;
+    if (w.touched(m::hr_clear_error) && hr[m::hr_clear_error] > 1) return 3;
     return 0;
   }
 
   void after_write(modbus_mapping_t& map, int address, int count) override {
     const std::uint16_t* hr = map.tab_registers;
-    auto touched = [&](int reg) { return reg >= address && reg < address + count; };
-    if (touched(m::hr_setpoint) || touched(m::hr_setpoint + 1))
-      physics_.set_setpoint(registers_to_float(hr[m::hr_setpoint], hr[m::hr_setpoint + 1]));
-    if (touched(m::hr_pump_run)) physics_.run_pump(hr[m::hr_pump_run] == 1);
-    if (touched(m::hr_vent)) physics_.set_vent(hr[m::hr_vent] == 1);
-    if (touched(m::hr_clear_error) && hr[m::hr_clear_error] == 1) {
+    const WriteRange w{address, count};
+    if (w.touched_float(m::hr_setpoint)) physics_.set_setpoint(get_float(hr, m::hr_setpoint));
+    if (w.touched(m::hr_pump_run)) physics_.run_pump(hr[m::hr_pump_run] == 1);
+    if (w.touched(m::hr_vent)) physics_.set_vent(hr[m::hr_vent] == 1);
+    if (w.touched(m::hr_clear_error) && hr[m::hr_clear_error] == 1) {
       physics_.clear_error();
       map.tab_registers[m::hr_clear_error] = 0;
     }
