@@ -11,6 +11,11 @@
 #include "tocd/sim/mc/fresnel.hpp"
 #include "tocd/sim/mc/prepared_mesh.hpp"
 
+// The kernel's helper lambdas must inline: out of line (as GCC 12 leaves `interact`), the
+// packet's position and direction live in memory and every interaction pays store-to-load
+// round trips.
+#define TOCD_MC_INLINE __attribute__((always_inline))
+
 namespace tocd::sim::mc {
 
 /// Optical properties of one region in the form the kernel uses.
@@ -93,8 +98,9 @@ inline void refract(double* u, const double* m, double eta, double cos_i, double
     return;
   }
   const double tmp = std::sqrt(1.0 - u[2] * u[2]);
-  const double ux = st * (u[0] * u[2] * cp - u[1] * sp) / tmp + u[0] * ct;
-  const double uy = st * (u[1] * u[2] * cp + u[0] * sp) / tmp + u[1] * ct;
+  const double q = st / tmp;  // one division, not two: without -ffast-math the compiler keeps both
+  const double ux = q * (u[0] * u[2] * cp - u[1] * sp) + u[0] * ct;
+  const double uy = q * (u[1] * u[2] * cp + u[0] * sp) + u[1] * ct;
   u[2] = -st * cp * tmp + u[2] * ct;
   u[0] = ux;
   u[1] = uy;
@@ -140,11 +146,11 @@ inline void transport_photon(const KernelTet* tets, const KernelLink* links, con
   double* const absorbed_per_region = tally.absorbed_per_region;
   double roulette = 0.0;
   std::uint64_t events = 0, face_hits = 0;
-  auto deposit = [&](std::int32_t t, std::int32_t slot, double dep) {
+  auto deposit = [&](std::int32_t t, std::int32_t slot, double dep) TOCD_MC_INLINE {
     if (absorbed_per_tet) absorbed_per_tet[t] += dep;
     absorbed_per_region[slot] += dep;
   };
-  auto finish = [&]() {
+  auto finish = [&]() TOCD_MC_INLINE {
     tally.roulette += roulette;
     tally.events += events;
     tally.face_hits += face_hits;
@@ -155,7 +161,7 @@ inline void transport_photon(const KernelTet* tets, const KernelLink* links, con
   std::int32_t tet_now = tet;
   // Russian roulette for a light packet: survive 1 in `chance` with `chance` times the
   // weight, so the expected weight is unchanged. Returns false when the packet died.
-  auto survives_roulette = [&]() {
+  auto survives_roulette = [&]() TOCD_MC_INLINE {
     if (w >= s.roulette_threshold) return true;
     if (rng.uniform() * s.roulette_chance < 1.0) {
       roulette -= w * (s.roulette_chance - 1.0);
@@ -169,7 +175,7 @@ inline void transport_photon(const KernelTet* tets, const KernelLink* links, con
   // An interaction at distance `dist` inside the current tet: move, deposit the absorbed
   // fraction (implicit capture), deflect, play roulette, draw the next optical depth.
   // Returns false when the packet died in roulette.
-  auto interact = [&](const KernelLink& k, const KernelOptics& o, double dist) {
+  auto interact = [&](const KernelLink& k, const KernelOptics& o, double dist) TOCD_MC_INLINE {
     for (int c = 0; c < 3; ++c) p[c] += dist * u[c];
     const double dep = w * o.absorb_fraction;
     deposit(tet_now, k.region_slot, dep);
