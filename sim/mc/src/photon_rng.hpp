@@ -6,24 +6,36 @@
 
 namespace tocd::sim::mc {
 
-/// The random stream of one photon: Philox4x32-10 keyed by the run seed, counter
-/// (photon index, block). Any photon's stream can be regenerated on its own, so results do
-/// not depend on which thread ran which photon. Four 32-bit draws per block.
+/// The random stream of one photon. Philox4x32-10, keyed by the run seed with the photon
+/// index as counter, gives 128 bits that seed a xoshiro128++ generator for that photon alone.
+/// Any photon's stream is a function of (seed, photon index) only, so results do not depend on
+/// which thread ran which photon; within the photon, xoshiro128++ costs a handful of integer
+/// operations per draw and has no buffer whose refill would be a branch in the kernel.
+/// (xoshiro128++ passes BigCrush; streams start at independent uniformly random points of its
+/// 2^128 - 1 period, so two photons' streams overlapping is out of reach.)
 class PhotonRng {
  public:
   PhotonRng(std::uint64_t seed, std::uint64_t photon) noexcept {
-    key_ = {{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32)}};
-    ctr_ = {{static_cast<std::uint32_t>(photon), static_cast<std::uint32_t>(photon >> 32), 0u, 0u}};
+    const r123::Philox4x32::key_type key = {
+        {static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32)}};
+    const r123::Philox4x32::ctr_type ctr = {
+        {static_cast<std::uint32_t>(photon), static_cast<std::uint32_t>(photon >> 32), 0u, 0u}};
+    const r123::Philox4x32::ctr_type b = r123::Philox4x32()(ctr, key);
+    for (int i = 0; i < 4; ++i) s_[i] = b.v[i];
+    if ((s_[0] | s_[1] | s_[2] | s_[3]) == 0u) s_[0] = 1u;  // the one state xoshiro cannot leave
   }
 
   /// One raw 32-bit draw.
   [[gnu::always_inline]] std::uint32_t bits() noexcept {
-    if (used_ == 4) {
-      block_ = r123::Philox4x32()(ctr_, key_);
-      ++ctr_.v[2];
-      used_ = 0;
-    }
-    return block_.v[used_++];
+    const std::uint32_t result = rotl(s_[0] + s_[3], 7) + s_[0];
+    const std::uint32_t t = s_[1] << 9;
+    s_[2] ^= s_[0];
+    s_[3] ^= s_[1];
+    s_[1] ^= s_[2];
+    s_[0] ^= s_[3];
+    s_[2] ^= t;
+    s_[3] = rotl(s_[3], 11);
+    return result;
   }
 
   /// Uniform in the open interval (0, 1): (k + 0.5) / 2^32, never 0 so log() is safe.
@@ -32,10 +44,8 @@ class PhotonRng {
   }
 
  private:
-  r123::Philox4x32::ctr_type ctr_{};
-  r123::Philox4x32::key_type key_{};
-  r123::Philox4x32::ctr_type block_{};
-  int used_ = 4;
+  static std::uint32_t rotl(std::uint32_t x, int k) noexcept { return (x << k) | (x >> (32 - k)); }
+  std::uint32_t s_[4];
 };
 
 }  // namespace tocd::sim::mc

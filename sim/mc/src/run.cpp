@@ -77,6 +77,11 @@ std::vector<KernelOptics> kernel_optics(const PreparedMesh& mesh, const Optics& 
     k.inv_mu_t = k.ballistic ? 0.0 : 1.0 / k.mu_t;
     k.albedo = k.ballistic ? 1.0 : k.mu_s / k.mu_t;
     k.absorb_fraction = k.ballistic ? 0.0 : k.mu_a / k.mu_t;
+    k.hg_one_minus_g2 = 1.0 - k.g * k.g;
+    k.hg_one_plus_g2 = 1.0 + k.g * k.g;
+    k.hg_one_minus_g = 1.0 - k.g;
+    k.hg_two_g = 2.0 * k.g;
+    k.hg_inv_two_g = k.g == 0.0 ? 0.0 : 1.0 / (2.0 * k.g);
     out.push_back(k);
   }
   return out;
