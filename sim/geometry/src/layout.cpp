@@ -24,10 +24,11 @@ constexpr double kCheckTolerance = 1e-6;  // mm: closest allowed approach of dis
 // native-skin slivers ~0.05 mm thick that TetGen fills with tiny tets. Half an edge (0.1 mm)
 // removes the steps and keeps the zone's volume within ~2 %.
 constexpr double kOutlineSimplify = 0.5;
-// Skin points closer to the pin than this many section edges are in contact. The FE skin
-// leaves the pin tangentially; a smaller tolerance leaves an air wedge a few um thick over
-// a whole segment, which TetGen fills with tiny tets (0.6 M at 1.25 mm with 2 %).
-constexpr double kContactFraction = 0.1;
+// Skin points closer to the pin than this many section edges (10 um) are in contact. The FE
+// skin leaves the pin tangentially; a smaller tolerance leaves an air wedge a few um thick
+// over a whole segment, which TetGen fills with tiny tets (0.6 M at 1.25 mm with 2 %). The
+// flat skin at d = 0 stays a point contact (its first point is 13 um below the tip's facet).
+constexpr double kContactFraction = 0.05;
 
 std::string at(Vec2 p) {
   return fmt::format("(r = {:.4f} mm, z = {:.4f} mm)", p.r, p.z);
