@@ -40,7 +40,7 @@ ResolvedSize resolve_size(const MeshSize& size) {
   if (size.preset == "fast") {
     r.edge_mm = 0.4;
     volume_factor = 16.0;
-    r.radius_edge_ratio = 1.5;
+    r.radius_edge_ratio = 1.7;
     r.min_dihedral_deg = 10.0;
   } else if (size.preset == "paper") {
     r.edge_mm = 0.2;

@@ -175,9 +175,9 @@ double skin_volume_near_axis(const geo::CompositeMesh& m, double r_max, double z
   return v;
 }
 
-/// Revolved volume of the N-gon complex of a section polygon (Pappus, N = 32).
-double ngon_volume(const std::vector<geo::ProfilePoint>& p) {
-  return revolved_volume(p) * 32 * std::sin(2 * std::numbers::pi / 32) / (2 * std::numbers::pi);
+/// Revolved volume of the N-gon complex of a section polygon (Pappus, N azimuths).
+double ngon_volume(const std::vector<geo::ProfilePoint>& p, int n) {
+  return revolved_volume(p) * n * std::sin(2 * std::numbers::pi / n) / (2 * std::numbers::pi);
 }
 
 }  // namespace
@@ -187,11 +187,12 @@ double ngon_volume(const std::vector<geo::ProfilePoint>& p) {
 TEST(CompositeGeometry, NativeSkinEnclosedByTheCompressedZoneIsSkin) {
   // Synthetic: the lens is the 0.3 x 0.15 mm rectangle at the axis.
   const auto& synthetic = geo::testing::mesh_of(Case::indent_10_native_pocket);
-  const double lens = ngon_volume({{0, 0}, {0.3, 0}, {0.3, 0.15}, {0, 0.15}});
+  const double lens =
+      ngon_volume({{0, 0}, {0.3, 0}, {0.3, 0.15}, {0, 0.15}}, synthetic.size.azimuth_segments);
   EXPECT_NEAR(skin_volume_near_axis(synthetic, 0.35, 0.15), lens, 1e-6 * lens);
   // The FE profile that first showed it (1.0 mm into 2.0 mm skin): the lens under its
   // outline, from the axis at z = 0.100 to the slide at r = 0.366 mm. Its straight sides
-  // survive the outline's simplification (0.04 mm) to well within 5 %.
+  // survive the outline's simplification (0.05 mm) to well within 5 %.
   const auto& fe = geo::testing::mesh_of(Case::fe_d10_h20);
   const double fe_lens = ngon_volume({{0, 0},
                                       {0.365625, 0},
@@ -201,7 +202,8 @@ TEST(CompositeGeometry, NativeSkinEnclosedByTheCompressedZoneIsSkin) {
                                       {0.2303448985, 0.103871483},
                                       {0.1541221219, 0.1020106873},
                                       {0.07723938806, 0.1008321743},
-                                      {0, 0.100339883}});
+                                      {0, 0.100339883}},
+                                     fe.size.azimuth_segments);
   EXPECT_NEAR(skin_volume_near_axis(fe, 0.5, 0.13), fe_lens, 0.05 * fe_lens);
 }
 
