@@ -19,12 +19,13 @@ constexpr double kMaxEndMismatch = 0.25;  // mm: largest end-of-profile offset t
 constexpr double kRampWidth = 1.0;        // mm: width of that ramp
 constexpr double kMaxPenetration = 0.1;   // mm: deeper skin-in-pin penetration is an error
 constexpr double kCheckTolerance = 1e-6;  // mm: closest allowed approach of distinct surfaces
-// Douglas-Peucker tolerance of compressed outlines, in section edges (0.05 mm): the FE
+// Douglas-Peucker tolerance of compressed outlines, in section edges (0.02 mm): the FE
 // outline is an element-edge staircase.
-constexpr double kOutlineSimplify = 0.25;
-// Interior outline points closer to the skin top than this many section edges (0.1 mm) are
-// dropped. Where the FE outline runs just under the pin/skin contact, its steps would leave
-// native-skin slivers ~0.05 mm thick that TetGen fills with tiny tets (0.6 M at 1.5 mm).
+constexpr double kOutlineSimplify = 0.1;
+// Outline points closer to the skin top than this many section edges (0.1 mm) right after
+// the outline leaves it are dropped. Where the FE outline runs just under the pin/skin
+// contact, its steps would leave native-skin slivers ~0.05 mm thick that TetGen fills with
+// tiny tets (0.6 M at 1.5 mm).
 constexpr double kNearSurface = 0.5;
 // Skin points closer to the pin than this many section edges (10 um) are in contact. The FE
 // skin leaves the pin tangentially; a smaller tolerance leaves an air wedge a few um thick
@@ -472,19 +473,24 @@ class LayoutBuilder {
 
   void simplify_run(const std::vector<OutlineVertex>& v, std::vector<bool>& keep, std::size_t from,
                     std::size_t to, std::size_t n) {
-    // Interior points just under the skin top (not on it) are dropped first when the run
-    // also reaches deeper: see kNearSurface.
-    std::vector<bool> near(to - from + 1, false);
-    bool deep = false;
-    for (std::size_t i = from + 1; i < to; ++i) {
+    // Where the run leaves the skin top, the interior points that follow it just under the
+    // surface are dropped first, as long as the run reaches deeper: see kNearSurface.
+    const auto near = [&](std::size_t i) {
       double arc = 0;
-      near[i - from] = polyline_distance(fe_top_, fe_arc_, v[i % n].p, &arc) < kNearSurface * h_;
-      deep = deep || !near[i - from];
-    }
+      return polyline_distance(fe_top_, fe_arc_, v[i % n].p, &arc) < kNearSurface * h_;
+    };
+    std::size_t first = from + 1, last = to;  // interior points kept: [first, last)
+    if (v[from % n].on_surface)
+      while (first < last && near(first)) ++first;
+    if (v[to % n].on_surface)
+      while (last > first && near(last - 1)) --last;
+    if (first == last) first = from + 1, last = to;  // nothing deeper: keep them all
+    std::vector<bool> drop(to - from + 1, false);
+    for (std::size_t i = from + 1; i < to; ++i) drop[i - from] = i < first || i >= last;
     std::vector<Vec2> line;
     std::vector<std::size_t> index;
     for (std::size_t i = from; i <= to; ++i) {
-      if (deep && near[i - from]) {
+      if (drop[i - from]) {
         keep[i % n] = false;
         continue;
       }
