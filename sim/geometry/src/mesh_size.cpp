@@ -35,7 +35,7 @@ ResolvedSize resolve_size(const MeshSize& size) {
   r.section_edge_mm = kSectionEdge;
   r.azimuth_segments = kAzimuthSegments;
   // Volume factors are calibrated so that the presets give the tet counts the issue asks
-  // for (fast: below ~0.1 M; paper: ~0.5 M at 0.2 mm); see docs/geometry.md.
+  // for (fast: ~0.1 M; paper: ~0.5 M at 0.2 mm); see docs/geometry.md.
   double volume_factor = 1.0;
   if (size.preset == "fast") {
     r.edge_mm = 0.4;

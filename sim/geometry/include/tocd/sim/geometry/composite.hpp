@@ -43,7 +43,7 @@ enum Region : int { pin = 1, slide = 2, air = 3, skin = 4, compressed = 5 };
 /// pin's own top face (where the source light enters) carries `pin_top`.
 enum Marker : int { slide_bottom = 1, sides = 2, top = 3, pin_top = 4 };
 
-/// Mesh size. `preset` is "fast" (below ~0.1 M tets, for live prediction) or "paper" (0.2 mm
+/// Mesh size. `preset` is "fast" (~0.1 M tets, for live prediction) or "paper" (0.2 mm
 /// elements, ~0.5 M tets). Both presets describe the same geometry (the same r-z section
 /// segments and azimuths); they differ only in tet size. A positive max_edge_mm overrides the
 /// preset's element edge (and refines the section when finer than its 0.2 mm segments); a
