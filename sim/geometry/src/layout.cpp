@@ -19,6 +19,19 @@ constexpr double kMaxEndMismatch = 0.25;  // mm: largest end-of-profile offset t
 constexpr double kRampWidth = 1.0;        // mm: width of that ramp
 constexpr double kMaxPenetration = 0.1;   // mm: deeper skin-in-pin penetration is an error
 constexpr double kCheckTolerance = 1e-6;  // mm: closest allowed approach of distinct surfaces
+// Douglas-Peucker tolerance of compressed outlines, in section edges (0.02 mm): the FE
+// outline is an element-edge staircase.
+constexpr double kOutlineSimplify = 0.1;
+// Outline points closer to the skin top than this many section edges (0.1 mm) right after
+// the outline leaves it are dropped. Where the FE outline runs just under the pin/skin
+// contact, its steps would leave native-skin slivers ~0.05 mm thick that TetGen fills with
+// tiny tets (0.6 M at 1.5 mm).
+constexpr double kNearSurface = 0.5;
+// Skin points closer to the pin than this many section edges (10 um) are in contact. The FE
+// skin leaves the pin tangentially; a smaller tolerance leaves an air wedge a few um thick
+// over a whole segment, which TetGen fills with tiny tets (0.6 M at 1.25 mm with 2 %). The
+// flat skin at d = 0 stays a point contact (its first point is 13 um below the tip's facet).
+constexpr double kContactFraction = 0.05;
 
 std::string at(Vec2 p) {
   return fmt::format("(r = {:.4f} mm, z = {:.4f} mm)", p.r, p.z);
@@ -216,6 +229,12 @@ class LayoutBuilder {
     std::vector<bool> shared{true};
     for (std::size_t k = 0; k + 1 < anchors.size(); ++k) {
       const double u0 = anchors[k].first, u1 = anchors[k + 1].first;
+      if (s.has_edge(anchors[k].second, anchors[k + 1].second)) {
+        // Neighbours on the skin top: the contact edge between them is the pin's outline
+        // there. A pin vertex between them would leave a sliver of air under the chord.
+        chain.push_back(anchors[k + 1].second);
+        continue;
+      }
       // Break at the equator so the hemisphere and cylinder each get exact vertices.
       std::vector<double> breaks{u0};
       if (u0 < pin.equator_u() - 1e-9 && pin.equator_u() < u1 - 1e-9) breaks.push_back(pin.equator_u());
@@ -292,9 +311,9 @@ class LayoutBuilder {
     }
     // Contact: skin points closer to the pin than a small tolerance are moved onto the pin
     // outline, so the contact surface is one revolved polyline shared by pin and skin. The
-    // tolerance (2 % of the edge, at least 2 um) also keeps the air wedge where pin and
+    // tolerance (kContactFraction of the edge, at least 2 um) also keeps the air wedge where pin and
     // skin separate from being thinner than TetGen can resolve.
-    const double contact_tol = std::max(0.002, 0.02 * h_);
+    const double contact_tol = std::max(0.002, kContactFraction * h_);
     std::vector<std::pair<double, int>> anchors;
     std::vector<bool> contact(top.size(), false);
     auto& s = L_.section;
@@ -401,8 +420,7 @@ class LayoutBuilder {
       if (before == after && after != EdgeKind::chain) keep[i] = false;
     }
     // Simplify runs of interior (chain) edges: the FE outline follows element edges (a
-    // staircase); a tenth of the edge length keeps its shape and volume within the mesh's
-    // own resolution.
+    // staircase); see kOutlineSimplify.
     std::size_t start = 0;
     while (start < n && !(keep[start] && kind[(start + n - 1) % n] != EdgeKind::chain)) ++start;
     if (start == n) {
@@ -455,13 +473,31 @@ class LayoutBuilder {
 
   void simplify_run(const std::vector<OutlineVertex>& v, std::vector<bool>& keep, std::size_t from,
                     std::size_t to, std::size_t n) {
+    // Where the run leaves the skin top, the interior points that follow it just under the
+    // surface are dropped first, as long as the run reaches deeper: see kNearSurface.
+    const auto near = [&](std::size_t i) {
+      double arc = 0;
+      return polyline_distance(fe_top_, fe_arc_, v[i % n].p, &arc) < kNearSurface * h_;
+    };
+    std::size_t first = from + 1, last = to;  // interior points kept: [first, last)
+    if (v[from % n].on_surface)
+      while (first < last && near(first)) ++first;
+    if (v[to % n].on_surface)
+      while (last > first && near(last - 1)) --last;
+    if (first == last) first = from + 1, last = to;  // nothing deeper: keep them all
+    std::vector<bool> drop(to - from + 1, false);
+    for (std::size_t i = from + 1; i < to; ++i) drop[i - from] = i < first || i >= last;
     std::vector<Vec2> line;
     std::vector<std::size_t> index;
     for (std::size_t i = from; i <= to; ++i) {
+      if (drop[i - from]) {
+        keep[i % n] = false;
+        continue;
+      }
       line.push_back(v[i % n].p);
       index.push_back(i % n);
     }
-    const auto simple = simplify(line, 0.1 * h_);
+    const auto simple = simplify(line, kOutlineSimplify * h_);
     for (std::size_t i = 1; i + 1 < line.size(); ++i) {
       const bool in = std::any_of(simple.begin(), simple.end(),
                                   [&](Vec2 q) { return q.r == line[i].r && q.z == line[i].z; });
@@ -536,8 +572,8 @@ int plane_of_edge(const Layout& layout, const Section::Edge& e) {
   return -1;
 }
 
-Layout build_layout(const CompositeSpec& spec, double edge_mm) {
-  return LayoutBuilder(spec, edge_mm).build();
+Layout build_layout(const CompositeSpec& spec, double section_edge_mm) {
+  return LayoutBuilder(spec, section_edge_mm).build();
 }
 
 }  // namespace tocd::sim::geometry::detail

@@ -49,9 +49,10 @@ struct Layout {
   double contact_radius_mm = 0;
 };
 
-/// Builds and checks the layout of `spec` with target edge `edge_mm`. Throws GeometryError
-/// naming the surface at fault.
-Layout build_layout(const CompositeSpec& spec, double edge_mm);
+/// Builds and checks the layout of `spec` with section segments of about `section_edge_mm`
+/// (which also scales the contact and simplification tolerances). Throws GeometryError naming
+/// the surface at fault.
+Layout build_layout(const CompositeSpec& spec, double section_edge_mm);
 
 /// Whether edge e of the section lies in one of the layout's planes (then it is part of that
 /// plane's facet, not revolved).

@@ -22,39 +22,9 @@ double signed_area(const std::vector<geometry::ProfilePoint>& poly) {
   return 0.5 * a;
 }
 
-bool on_surface(const geometry::ProfilePoint& p, const std::vector<geometry::ProfilePoint>& surface) {
-  for (std::size_t i = 0; i + 1 < surface.size(); ++i) {
-    const auto& a = surface[i];
-    const auto& b = surface[i + 1];
-    if (p.r_mm < a.r_mm - 1e-6 || p.r_mm > b.r_mm + 1e-6) continue;
-    const double t = b.r_mm > a.r_mm ? (p.r_mm - a.r_mm) / (b.r_mm - a.r_mm) : 0.0;
-    if (std::abs(a.z_mm + t * (b.z_mm - a.z_mm) - p.z_mm) < 1e-6) return true;
-  }
-  return false;
-}
-
-/// Lowers the outline's vertices on the top surface by `inset` and drops the vertices on
-/// the axis that the lowered part now passes.
-void inset_from_surface(std::vector<geometry::ProfilePoint>& poly,
-                        const std::vector<geometry::ProfilePoint>& surface, double inset) {
-  std::vector<bool> lowered(poly.size(), false);
-  double axis_top = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < poly.size(); ++i)
-    if (on_surface(poly[i], surface)) {
-      poly[i].z_mm -= inset;
-      lowered[i] = true;
-      if (poly[i].r_mm < kTol) axis_top = std::min(axis_top, poly[i].z_mm);
-    }
-  std::vector<geometry::ProfilePoint> kept;
-  for (std::size_t i = 0; i < poly.size(); ++i)
-    if (lowered[i] || poly[i].r_mm >= kTol || poly[i].z_mm < axis_top - 0.5 * inset) kept.push_back(poly[i]);
-  poly = std::move(kept);
-}
-
 }  // namespace
 
-geometry::SkinProfile to_skin_profile(const fe::FeStepResult& step, double thickness_mm,
-                                      double outline_inset_mm) {
+geometry::SkinProfile to_skin_profile(const fe::FeStepResult& step, double thickness_mm) {
   geometry::SkinProfile profile;
   profile.thickness_mm = thickness_mm;
   for (const auto& p : step.top_surface) {
@@ -79,7 +49,6 @@ geometry::SkinProfile to_skin_profile(const fe::FeStepResult& step, double thick
     while (poly.size() > 1 && std::abs(poly.front().r_mm - poly.back().r_mm) < kTol &&
            std::abs(poly.front().z_mm - poly.back().z_mm) < kTol)
       poly.pop_back();
-    if (outline_inset_mm > 0.0) inset_from_surface(poly, profile.top_surface, outline_inset_mm);
     if (poly.size() < 3) continue;
     const double area = signed_area(poly);
     if (std::abs(area) < 1e-8) continue;

@@ -43,10 +43,11 @@ enum Region : int { pin = 1, slide = 2, air = 3, skin = 4, compressed = 5 };
 /// pin's own top face (where the source light enters) carries `pin_top`.
 enum Marker : int { slide_bottom = 1, sides = 2, top = 3, pin_top = 4 };
 
-/// Mesh size. `preset` is "fast" (a few 10k tets, for live prediction) or "paper" (about
-/// 0.2 mm surface edges, ~0.5 M tets). A positive max_edge_mm overrides the preset's
-/// surface edge length (profile segments, azimuthal segments); a positive max_volume_mm3
-/// overrides its tet volume bound (default: derived from the edge length).
+/// Mesh size. `preset` is "fast" (~0.1 M tets, for live prediction) or "paper" (0.2 mm
+/// elements, ~0.5 M tets). Both presets describe the same geometry (the same r-z section
+/// segments and azimuths); they differ only in tet size. A positive max_edge_mm overrides the
+/// preset's element edge (and refines the section when finer than its 0.2 mm segments); a
+/// positive max_volume_mm3 overrides the tet volume bound (default: derived from the edge).
 struct MeshSize {
   std::string preset = "fast";
   double max_edge_mm = 0;
@@ -73,9 +74,10 @@ struct RegionStats {
 
 /// Resolved size parameters (what a preset means), reported with the mesh.
 struct ResolvedSize {
-  double edge_mm = 0;         ///< target surface edge: profile / outline segment length
-  double max_volume_mm3 = 0;  ///< TetGen volume bound ('a')
-  int azimuth_segments = 0;   ///< N: every revolved surface is an N-gon prism band
+  double edge_mm = 0;          ///< target element edge (sets the default volume bound)
+  double section_edge_mm = 0;  ///< geometry: segment length of the skin top, pin outline, outlines
+  double max_volume_mm3 = 0;   ///< TetGen volume bound ('a')
+  int azimuth_segments = 0;    ///< N (geometry): every revolved surface is an N-gon prism band
   double radius_edge_ratio = 0, min_dihedral_deg = 0;  ///< TetGen quality ('q')
 };
 

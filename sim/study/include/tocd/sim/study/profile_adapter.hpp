@@ -11,14 +11,11 @@ namespace tocd::sim::study {
 /// Tidies what TetGen would reject: points of the top surface that do not advance in r
 /// (within 1e-9 mm) are dropped and the surface starts at r = 0; compressed outlines lose
 /// repeated points, are turned counter-clockwise, and outlines with fewer than 3 points or
-/// no area are dropped. Outline vertices lying on the deformed top surface (the FE outline
-/// follows the surface under the pin) are lowered by `outline_inset_mm`, and axis vertices
-/// the lowered part passes are dropped: the composite geometry rebuilds the contact surface
-/// against the pin and rejects an outline sharing it (kept as a thin native-skin layer under
-/// the pin; 0 turns this off). Throws tocd::Error when the top surface has fewer than 2
-/// points.
-geometry::SkinProfile to_skin_profile(const fe::FeStepResult& step, double thickness_mm,
-                                      double outline_inset_mm = 0.05);
+/// no area are dropped. Outlines are otherwise passed on as the FE gives them: where they run
+/// along the top surface under the pin, the geometry takes the skin top (and the pin/skin
+/// contact surface) as their boundary. Throws tocd::Error when the top surface has fewer
+/// than 2 points.
+geometry::SkinProfile to_skin_profile(const fe::FeStepResult& step, double thickness_mm);
 
 /// The flat, undeformed skin (no FE needed at zero displacement).
 geometry::SkinProfile flat_skin_profile(double thickness_mm);
