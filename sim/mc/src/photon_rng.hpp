@@ -15,6 +15,7 @@ namespace tocd::sim::mc {
 /// 2^128 - 1 period, so two photons' streams overlapping is out of reach.)
 class PhotonRng {
  public:
+  PhotonRng() noexcept = default;
   PhotonRng(std::uint64_t seed, std::uint64_t photon) noexcept {
     const r123::Philox4x32::key_type key = {
         {static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32)}};
@@ -45,7 +46,7 @@ class PhotonRng {
 
  private:
   static std::uint32_t rotl(std::uint32_t x, int k) noexcept { return (x << k) | (x >> (32 - k)); }
-  std::uint32_t s_[4];
+  std::uint32_t s_[4] = {1u, 0u, 0u, 0u};
 };
 
 }  // namespace tocd::sim::mc

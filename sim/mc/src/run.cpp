@@ -140,18 +140,22 @@ Result run(const PreparedMesh& mesh, const Optics& optics, const Source& source,
       BatchStore& slot = slots[static_cast<std::size_t>(i)];
       slot.reset(nt, nr, ng);
       const std::uint64_t first = batch_begin(wave + i), last = batch_begin(wave + i + 1);
-      for (std::uint64_t photon = first; photon < last; ++photon) {
+      std::uint64_t photon = first;
+      auto next_photon = [&](PhotonRng& rng, Entry& entry) {
+        if (photon == last) return false;
         if (((photon - first) & 1023u) == 0 && photon != first) {
           done.fetch_add(1024, std::memory_order_relaxed);
           if (settings.cancel && settings.cancel->load(std::memory_order_relaxed)) stop.store(true);
-          if (stop.load(std::memory_order_relaxed)) break;
+          if (stop.load(std::memory_order_relaxed)) return false;
           if (settings.progress && omp_get_thread_num() == 0) settings.progress(done.load(), n);
         }
-        PhotonRng rng(settings.seed, photon);
-        const Entry entry = launcher.sample(rng);
-        transport_photon(mesh.tets.data(), mesh.links.data(), kopt.data(), ks, entry, rng, slot.tally);
+        rng = PhotonRng(settings.seed, photon);
+        entry = launcher.sample(rng);
+        ++photon;
         ++slot.photons;
-      }
+        return true;
+      };
+      transport_batch(mesh.tets.data(), mesh.links.data(), kopt.data(), ks, slot.tally, next_photon);
     }
     if (stop.load()) break;  // a cancelled wave is incomplete: keep only whole batches
     for (int i = 0; i < in_wave; ++i) {

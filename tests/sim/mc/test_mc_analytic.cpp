@@ -97,6 +97,25 @@ TEST(MC_SUITE(McAnalytic), PartialTransmissionBelowCriticalAngle) {
               r.transmittance.se, expected, r.side_loss.mean);
 }
 
+TEST(MC_SUITE(McAnalytic), FreePathsAreExponential) {
+  // Index-matched slab of thickness d whose scattering barely deflects (g -> 1): a packet
+  // crosses it in a straight line and meets N interactions, Poisson with mean mu_t d when the
+  // free paths are exponential; implicit capture keeps albedo^N of its weight, so
+  //   T = E[albedo^N] = exp(-mu_t d (1 - albedo)) = exp(-mu_a d).
+  // A sampler whose mean free path is off by 1 % shifts T by 0.4 %; any other path-length
+  // law with the same mean gives a different E[albedo^N]. Deflection lengthens the path by
+  // about 1e-5 per interaction, far inside the tolerance.
+  constexpr double kMuA = 1.0, kMuS = 9.0, kD = 1.0;
+  const mc::PreparedMesh mesh = slab(20.0, kD, 5, 3);
+  const mc::Result r = mc::run(mesh, one_region(props(kMuA, kMuS, 0.99999, 1.0)),
+                               pencil(0.0, 0.0123, -0.0217, kD), settings(200000 * kScale));
+  const double expected = std::exp(-kMuA * kD);
+  EXPECT_NEAR(r.transmittance.mean, expected, 4.0 * r.transmittance.se + 1e-4);
+  EXPECT_GT(static_cast<double>(r.events) / static_cast<double>(r.photons), 9.0);  // it did scatter
+  std::printf("free paths: T %.5f +- %.5f (exp(-mu_a d) %.5f), %.2f events/photon\n", r.transmittance.mean,
+              r.transmittance.se, expected, static_cast<double>(r.events) / static_cast<double>(r.photons));
+}
+
 TEST(MC_SUITE(Fresnel), NormalIncidenceAndTotalReflection) {
   double cos_t = 0.0;
   EXPECT_NEAR(mc::fresnel_reflectance(1.0, 1.5, 1.0, cos_t), 0.04, 1e-15);
