@@ -155,9 +155,11 @@ class LayoutBuilder {
     check_spec();
     auto& s = L_.section;
     s.add_surface("slide bottom face", slide_bottom);
-    s.add_surface("box side faces", sides);
+    s.add_surface("slide side faces", slide_sides);
     s.add_surface("air top face", top);
     s.add_surface("pin top face", pin_top);
+    s.add_surface("skin side faces", skin_sides);
+    s.add_surface("air side faces", air_sides);
     s.add_surface("slide top surface", 0);
     s.add_surface("flat skin top surface", 0);
     s.add_surface("skin top surface", 0);

@@ -13,9 +13,11 @@ namespace tocd::sim::geometry::detail {
 /// Surface ids of the fixed surfaces; compressed outlines follow from kFirstCompressed on.
 enum SurfaceId : int {
   kSlideBottom = 0,
-  kBoxSides,
+  kSlideSides,
   kAirTop,
   kPinTop,
+  kSkinSides,
+  kAirSides,
   kSlideTop,
   kSkinFlatTop,
   kSkinTop,

@@ -22,13 +22,15 @@ class PlcBuilder {
     heights.push_back(L_.z_top_mm);
     for (double z : heights) corners_[z] = add_square(H, z);
 
-    // Box: bottom, sides (one rectangle per layer and side), air top around the pin.
+    // Box: bottom, sides (one rectangle per layer and side: slide, skin, air), air top
+    // around the pin.
     add_facet({{corners_.at(heights.front())}}, {}, kSlideBottom);
     for (std::size_t k = 0; k + 1 < heights.size(); ++k) {
       const auto& lo = corners_.at(heights[k]);
       const auto& hi = corners_.at(heights[k + 1]);
+      const int surface = k == 0 ? kSlideSides : (k + 2 == heights.size() ? kAirSides : kSkinSides);
       for (int c = 0; c < 4; ++c)
-        add_facet({{{lo[c], lo[(c + 1) % 4], hi[(c + 1) % 4], hi[c]}}}, {}, kBoxSides);
+        add_facet({{{lo[c], lo[(c + 1) % 4], hi[(c + 1) % 4], hi[c]}}}, {}, surface);
     }
     const auto pin_ring = ring(L_.pin_top_vertex);
     add_facet({{corners_.at(L_.z_top_mm)}, {pin_ring}}, {{0.0, 0.0, L_.z_top_mm}}, kAirTop);

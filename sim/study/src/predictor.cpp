@@ -242,6 +242,11 @@ Prediction Predictor::predict(const PredictionRequest& r) {
   out.T_stderr = res.transmittance.se;
   out.side_loss = res.side_loss.mean;
   out.side_loss_stderr = res.side_loss.se;
+  if (const auto it = res.exit_by_marker.find(geometry::Marker::slide_sides);
+      it != res.exit_by_marker.end()) {
+    out.side_loss_slide = it->second.mean;
+    out.side_loss_slide_stderr = it->second.se;
+  }
   out.reflectance = res.reflectance.mean;
   out.absorbed = res.absorbed.mean;
   out.specular = res.specular.mean;

@@ -201,20 +201,20 @@ StudyTable run_study(Predictor& predictor, const std::vector<StudyCase>& cases, 
 std::string table_header(int ref_a, int ref_b) {
   const std::string a = ref_a >= 0 ? fmt::format("T/T{}", ref_a) : "T/Ta";
   const std::string b = ref_b >= 0 ? fmt::format("T/T{}", ref_b) : "T/Tb";
-  return fmt::format("{:>3} {:>6} {:>5} {:>6} {:<13} {:>8} {:>8} {:>7} {:>7} {:>7} {:>6} {:>7} {:>7}\n",
-                     "sim", "d_mm", "h_mm", "strain", "optics", "T", "T_se", a, b, "+-" + b, "side%", "tets",
-                     "seconds") +
-         std::string(104, '-') + "\n";
+  return fmt::format("{:>3} {:>6} {:>5} {:>6} {:<13} {:>8} {:>8} {:>7} {:>7} {:>7} {:>6} {:>6} {:>7} {:>7}\n",
+                     "sim", "d_mm", "h_mm", "strain", "optics", "T", "T_se", a, b, "+-" + b, "side%",
+                     "slide%", "tets", "seconds") +
+         std::string(111, '-') + "\n";
 }
 
 std::string format_row(const StudyRow& r) {
   return fmt::format(
-      "{:>3} {:>6.3f} {:>5.2f} {:>5.1f}% {:<13} {:>8.5f} {:>8.5f} {:>7} {:>7} {:>7} {:>6.2f} {:>7} "
+      "{:>3} {:>6.3f} {:>5.2f} {:>5.1f}% {:<13} {:>8.5f} {:>8.5f} {:>7} {:>7} {:>7} {:>6.2f} {:>6.2f} {:>7} "
       "{:>7.1f}\n",
       r.c.id, r.c.request.baseline ? 0.0 : r.c.request.displacement_mm,
       r.c.request.baseline ? 0.0 : r.c.request.thickness_mm, 100.0 * r.strain, r.c.optics_label, r.p.T,
       r.p.T_stderr, fmt_opt(r.rel_a, "{:.4f}"), fmt_opt(r.rel_b, "{:.4f}"), fmt_opt(r.rel_b_se, "{:.4f}"),
-      100.0 * r.p.side_loss, r.p.tets, r.seconds);
+      100.0 * r.p.side_loss, 100.0 * r.p.side_loss_slide, r.p.tets, r.seconds);
 }
 
 std::string format_table(const StudyTable& t) {
@@ -250,6 +250,8 @@ nlohmann::json to_json(const StudyTable& t) {
     row["T_rel_b_se"] = num(r.rel_b_se);
     row["side_loss"] = r.p.side_loss;
     row["side_loss_se"] = r.p.side_loss_stderr;
+    row["side_loss_slide"] = r.p.side_loss_slide;
+    row["side_loss_slide_se"] = r.p.side_loss_slide_stderr;
     row["reflectance"] = r.p.reflectance;
     row["absorbed"] = r.p.absorbed;
     row["specular"] = r.p.specular;
@@ -272,17 +274,19 @@ std::string to_csv(const StudyTable& t) {
   std::string out =
       "sim,displacement_mm,thickness_mm,strain,optics,optics_model,mu_a,mu_s,n,T,T_se,T_rel_a,T_rel_a_se,T_"
       "rel_b,"
-      "T_rel_b_se,side_loss,side_loss_se,reflectance,absorbed,tets,seconds\n";
+      "T_rel_b_se,side_loss,side_loss_se,side_loss_slide,side_loss_slide_se,reflectance,absorbed,tets,"
+      "seconds\n";
   auto f = [](double v) { return std::isfinite(v) ? fmt::format("{:.9g}", v) : std::string(); };
   for (const auto& r : t.rows) {
     const auto& o = r.c.request.compressed_optics;
     out +=
-        fmt::format("{},{},{},{},\"{}\",{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", r.c.id,
+        fmt::format("{},{},{},{},\"{}\",{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", r.c.id,
                     f(r.c.request.baseline ? 0.0 : r.c.request.displacement_mm),
                     f(r.c.request.baseline ? 0.0 : r.c.request.thickness_mm), f(r.strain), r.c.optics_label,
                     r.c.request.optics_model, f(o.mu_a_per_mm), f(o.mu_s_per_mm), f(o.n), f(r.p.T),
                     f(r.p.T_stderr), f(r.rel_a), f(r.rel_a_se), f(r.rel_b), f(r.rel_b_se), f(r.p.side_loss),
-                    f(r.p.side_loss_stderr), f(r.p.reflectance), f(r.p.absorbed), r.p.tets, f(r.seconds));
+                    f(r.p.side_loss_stderr), f(r.p.side_loss_slide), f(r.p.side_loss_slide_stderr),
+                    f(r.p.reflectance), f(r.p.absorbed), r.p.tets, f(r.seconds));
   }
   return out;
 }

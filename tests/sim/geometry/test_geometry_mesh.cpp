@@ -128,6 +128,8 @@ TEST_P(CompositeCase, RegionVolumesMatchTheGeometry) {
 
 TEST_P(CompositeCase, OuterFacesCarryTheirMarkers) {
   const auto& m = geo::testing::mesh_of(GetParam());
+  const auto spec = geo::testing::spec_of(GetParam());
+  const double skin_top = spec.baseline ? 0.0 : spec.skin.thickness_mm;
   const auto box = mesh::bounding_box(m.mesh);
   std::map<int, int> count;
   for (const auto& f : m.mesh.boundary_faces) {
@@ -144,8 +146,17 @@ TEST_P(CompositeCase, OuterFacesCarryTheirMarkers) {
       case geo::slide_bottom:
         EXPECT_TRUE(zmax == box.min[2] && zmin == box.min[2]);
         break;
-      case geo::sides:
+      case geo::slide_sides:  // side faces of each layer: slide, skin (undeformed there), air
         EXPECT_NEAR(side, 6.25, 1e-12);
+        EXPECT_TRUE(zmin >= box.min[2] && zmax <= box.min[2] + 1.0);
+        break;
+      case geo::skin_sides:
+        EXPECT_NEAR(side, 6.25, 1e-12);
+        EXPECT_TRUE(zmin >= box.min[2] + 1.0 && zmax <= box.min[2] + 1.0 + spec.skin.thickness_mm);
+        break;
+      case geo::air_sides:
+        EXPECT_NEAR(side, 6.25, 1e-12);
+        EXPECT_TRUE(zmin >= box.min[2] + 1.0 + skin_top && zmax <= box.max[2]);
         break;
       case geo::top:
         EXPECT_TRUE(zmin == box.max[2] && rmax >= 1.5 * std::cos(std::numbers::pi / 32) - 1e-9);
@@ -157,7 +168,9 @@ TEST_P(CompositeCase, OuterFacesCarryTheirMarkers) {
         ADD_FAILURE() << "unexpected marker " << f.marker;
     }
   }
-  for (int marker : {geo::slide_bottom, geo::sides, geo::top, geo::pin_top}) EXPECT_GT(count[marker], 0);
+  for (int marker : {geo::slide_bottom, geo::slide_sides, geo::air_sides, geo::top, geo::pin_top})
+    EXPECT_GT(count[marker], 0);
+  EXPECT_EQ(count[geo::skin_sides] > 0, !spec.baseline);
 }
 
 namespace {

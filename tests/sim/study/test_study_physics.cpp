@@ -48,14 +48,19 @@ double sigmas(const st::Prediction& a, const st::Prediction& b) {
   return (a.T - b.T) / std::hypot(a.T_stderr, b.T_stderr);
 }
 
-/// `max_side_loss`: the published runs stayed below 3.5 %; a compressed region with a raised
-/// index (n 1.518 against 1.38 around it) guides light sideways and loses more (docs/study.md).
+/// `max_side_loss`: the published runs stayed below 3.5 %. Light leaving the skin's and the
+/// air's sides stays below 5 % always; a compressed region with a raised index in contact
+/// with the slide sends light into the glass at angles the slide guides out of its edges,
+/// so the total may exceed 5 % there (docs/study.md).
 void expect_sane(const st::Prediction& p, const char* what, double max_side_loss = 0.05) {
   SCOPED_TRACE(what);
   EXPECT_GT(p.T, 0.0);
   EXPECT_GT(p.T_stderr, 0.0);
   EXPECT_LT(p.T_stderr, 0.05 * p.T);
   EXPECT_LT(p.side_loss, max_side_loss);
+  EXPECT_GE(p.side_loss_slide, 0.0);
+  EXPECT_LE(p.side_loss_slide, p.side_loss);
+  EXPECT_LT(p.side_loss - p.side_loss_slide, 0.05);  // through the skin's and air's sides
   // Transmission is the weight leaving through the slide's bottom face (marker 1).
   EXPECT_NEAR(p.mc["exit_by_marker"]["1"]["mean"].get<double>(), p.T, 1e-12);
   EXPECT_LT(std::abs(p.mc["energy_balance_error"].get<double>()), 1e-9);
@@ -109,6 +114,15 @@ TEST(STUDY_SUITE, ClearingTheCompressedRegionRaisesTransmission) {
   EXPECT_GT(sigmas(high_n, native), 3.0);
   EXPECT_LT(high_n.T - native.T, 0.5 * (low_mus.T - native.T));
   EXPECT_GT(high_n.side_loss, native.side_loss);
+  // The extra side loss is light the slide guides: from n 1.518 it enters the glass (1.458)
+  // at up to grazing angles, beyond the glass/skin critical angle (71 deg), and total
+  // internal reflection at the slide's bottom and top keeps it in the glass to its edges.
+  const double extra = high_n.side_loss - native.side_loss;
+  const double extra_slide = high_n.side_loss_slide - native.side_loss_slide;
+  std::printf("side loss (slide edges): native %.4f (%.4f) n110 %.4f (%.4f) all %.4f (%.4f)\n",
+              native.side_loss, native.side_loss_slide, high_n.side_loss, high_n.side_loss_slide,
+              all.side_loss, all.side_loss_slide);
+  EXPECT_GT(extra_slide, 0.6 * extra);
   expect_sane(high_n, "n110", 0.10);
   expect_sane(all, "a60s60n110", 0.10);
 }

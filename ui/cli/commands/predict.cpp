@@ -48,6 +48,8 @@ void run_predict(PredictOptions o) {
                         {"T_se", p.T_stderr},
                         {"side_loss", p.side_loss},
                         {"side_loss_se", p.side_loss_stderr},
+                        {"side_loss_slide", p.side_loss_slide},
+                        {"side_loss_slide_se", p.side_loss_slide_stderr},
                         {"reflectance", p.reflectance},
                         {"absorbed", p.absorbed},
                         {"specular", p.specular},
@@ -67,8 +69,9 @@ void run_predict(PredictOptions o) {
                            r.displacement_mm, r.thickness_mm, r.optics_model,
                            r.optics_model == "graded" ? "strain-graded" : r.compressed_optics.name, r.photons,
                            r.seed, r.mesh_preset);
-  std::cout << fmt::format("  T          {:.6f} +- {:.6f}\n  side loss  {:.6f} +- {:.6f}\n", p.T, p.T_stderr,
-                           p.side_loss, p.side_loss_stderr);
+  std::cout << fmt::format(
+      "  T          {:.6f} +- {:.6f}\n  side loss  {:.6f} +- {:.6f} (slide edges {:.6f} +- {:.6f})\n", p.T,
+      p.T_stderr, p.side_loss, p.side_loss_stderr, p.side_loss_slide, p.side_loss_slide_stderr);
   std::cout << fmt::format("  reflected  {:.6f}, absorbed {:.6f}, specular {:.6f}\n", p.reflectance,
                            p.absorbed, p.specular);
   if (p.fe_summary.contains("force_N"))

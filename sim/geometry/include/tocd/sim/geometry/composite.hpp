@@ -40,8 +40,10 @@ struct SkinProfile {
 enum Region : int { pin = 1, slide = 2, air = 3, skin = 4, compressed = 5 };
 
 /// Boundary marker of every outer face. `top` is the air's top face around the pin; the
-/// pin's own top face (where the source light enters) carries `pin_top`.
-enum Marker : int { slide_bottom = 1, sides = 2, top = 3, pin_top = 4 };
+/// pin's own top face (where the source light enters) carries `pin_top`. The box's side
+/// faces carry the marker of the layer they bound, so light lost sideways can be told apart:
+/// guided in the slide, or diffused through the skin.
+enum Marker : int { slide_bottom = 1, slide_sides = 2, top = 3, pin_top = 4, skin_sides = 5, air_sides = 6 };
 
 /// Mesh size. `preset` is "fast" (~0.1 M tets, for live prediction) or "paper" (0.2 mm
 /// elements, ~0.5 M tets). Both presets describe the same geometry (the same r-z section

@@ -57,6 +57,9 @@ struct Prediction {
   nlohmann::json fe_summary, mesh_stats;
 
   double side_loss_stderr = 0, reflectance = 0, absorbed = 0, specular = 0;
+  /// The part of side_loss that leaves through the slide's edges: light the slide guides
+  /// sideways by total internal reflection, as opposed to light diffusing out of the skin.
+  double side_loss_slide = 0, side_loss_slide_stderr = 0;
   std::size_t tets = 0;
   bool fe_cached = false, mesh_cached = false;  ///< taken from the predictor's caches
   nlohmann::json mc;                            ///< the Monte Carlo summary (mc::to_json)
