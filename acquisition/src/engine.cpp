@@ -7,6 +7,7 @@
 #include "tocd/core/log.hpp"
 #include "tocd/core/version.hpp"
 #include "tocd/db/reader.hpp"
+#include "tocd/devices/errors.hpp"
 
 namespace tocd::acquisition {
 
@@ -56,6 +57,31 @@ void check_instruments(const Protocol& p, const InstrumentSet& inst) {
   }
   if (p.kind != StepKind::vacuum && !inst.tester) {
     throw EngineError("the protocol has pin steps but the lab has no mechanical tester");
+  }
+}
+
+/// Zeroes the load cell before a pin run, so that no cell offset reaches the recorded loads
+/// (and the material fit). Only with the pin clear of the sample: a tare under load would
+/// hide real load. Not on resume, where the pin may be in the sample. Returns the note for
+/// the run's event log ("" when there is nothing to say).
+std::string tare_load_cell(const Protocol& p, const InstrumentSet& inst) {
+  constexpr double kClearance_mm = 0.05;
+  if (!inst.tester || p.kind != StepKind::displacement || !p.tare_load) return "";
+  try {
+    const devices::TesterReading before = inst.tester->read();
+    if (!(before.position_mm < p.contact_position_mm - kClearance_mm)) {
+      return fmt::format(
+          "load cell not tared: the pin is at {:.3f} mm, not clear of the contact position {:.3f} mm "
+          "(recorded loads include the cell's offset, {:.4g} N now)",
+          before.position_mm, p.contact_position_mm, before.load_N);
+    }
+    inst.tester->tare_load();
+    return fmt::format(
+        "load cell tared at {:.3f} mm, clear of the contact position {:.3f} mm (it read {:.4g} N)",
+        before.position_mm, p.contact_position_mm, before.load_N);
+  } catch (const devices::DeviceError& e) {
+    // A transient fault here must not cost the run: the pollers retry and report faults.
+    return fmt::format("load cell not tared (recorded loads include the cell's offset): {}", e.what());
   }
 }
 
@@ -127,6 +153,7 @@ std::int64_t Engine::start(const Protocol& protocol) {
   }
   instrument[kPower] = register_instrument(m.db, "power_meter", m.inst.power_meter->identity());
   if (m.inst.vacuum) instrument[kPressure] = register_instrument(m.db, "vacuum", m.inst.vacuum->identity());
+  const std::string tare_note = tare_load_cell(protocol, m.inst);
 
   db::SampleRecord sample;
   sample.name = protocol.sample.tissue;
@@ -157,6 +184,7 @@ std::int64_t Engine::start(const Protocol& protocol) {
       c.nominal_rate_Hz = rate[s];
       m.channel[s] = m.db.add_channel(c).id;
     }
+    if (!tare_note.empty()) m.db.add_event({0, m.run_id, m.clock.now_ns(), "tare", tare_note, -1, ""});
     if (protocol.baseline.measure) {
       m.db.add_event({0, m.run_id, m.clock.now_ns(), "baseline",
                       fmt::format("measured glass-only baseline {:.6g} W over {} s", m.baseline_W,

@@ -251,10 +251,11 @@ Protocol parse_protocol(std::string_view toml_text, const std::string& source_na
   }
   if (const auto* t = subtable(doc, source_name, "motion", false)) {
     const TableReader r(*t, source_name, "motion");
-    r.only({"contact_position_mm", "approach_speed_mm_per_s", "retract_speed_mm_per_s"});
+    r.only({"contact_position_mm", "approach_speed_mm_per_s", "retract_speed_mm_per_s", "tare_load"});
     p.contact_position_mm = r.bounded("contact_position_mm", p.contact_position_mm, 0.0, false);
     p.approach_speed_mm_per_s = r.bounded("approach_speed_mm_per_s", p.approach_speed_mm_per_s, 0.0, true);
     p.retract_speed_mm_per_s = r.bounded("retract_speed_mm_per_s", p.retract_speed_mm_per_s, 0.0, true);
+    p.tare_load = r.flag("tare_load", p.tare_load);
   }
   parse_steps(TableReader(*subtable(doc, source_name, "steps", true), source_name, "steps"), p);
   if (const auto* t = subtable(doc, source_name, "settle", false)) {

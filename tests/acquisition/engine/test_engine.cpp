@@ -85,7 +85,9 @@ struct Recorder : EngineObserver {
 
 TEST_F(EngineTest, RecordsStepsWithTransmissionLoadAndPredictions) {
   auto world = std::make_shared<FakeWorld>(kFactor);
-  world->fail_tester_reads = 3;  // a short fault streak: logged, retried, recovered
+  // A short fault streak: the tare's read fails (the run goes on untared), then 3 poller reads
+  // (logged, retried, recovered).
+  world->fail_tester_reads = 4;
   auto predictor = std::make_shared<FakePredictor>(1.02);
   Recorder obs;
   tocd::db::Database db(path_);
@@ -96,6 +98,8 @@ TEST_F(EngineTest, RecordsStepsWithTransmissionLoadAndPredictions) {
 
   const tocd::db::Reader r(path_);
   EXPECT_EQ(r.run(run).status, tocd::db::RunStatus::completed);
+  // The fault streak began with the load-cell tare's read: the run went on untared.
+  EXPECT_TRUE(has_event(r, run, "tare", "not tared (recorded loads include the cell's offset): fake tester"));
   const auto steps = r.steps(run);
   ASSERT_EQ(steps.size(), 3u);
   const auto load_ch = r.channel(run, "load");
@@ -150,6 +154,55 @@ TEST_F(EngineTest, RecordsStepsWithTransmissionLoadAndPredictions) {
   for (const auto& c : r.channels(run)) stored += r.sample_count(c.id);
   EXPECT_EQ(static_cast<std::uint64_t>(stored), engine.stats().samples_enqueued);
   EXPECT_EQ(engine.stats().samples_dropped, 0u);
+}
+
+TEST_F(EngineTest, LoadCellIsTaredClearOfTheSampleBeforeAPinRun) {
+  // The cell reads 0.05 N unloaded. Tared at home (0 mm; contact at 1 mm), the recorded loads
+  // are the sample's alone: 0 at contact, where the offset would exceed the tolerance 3x.
+  auto world = std::make_shared<FakeWorld>(kFactor);
+  world->load_cell_offset_N = 0.05;
+  tocd::db::Database db(path_);
+  const Protocol p = parse_protocol(pin_protocol("0.0, 0.5"), "engine.toml");
+  Engine engine(db, make_fake_instruments(world), fast());
+  const auto run = engine.start(p);
+  EXPECT_EQ(engine.wait(), EngineState::completed) << engine.error();
+  EXPECT_EQ(world->tare_calls, 1);
+  const tocd::db::Reader r(path_);
+  EXPECT_TRUE(has_event(r, run, "tare", "load cell tared at 0.000 mm"));
+  const auto load_ch = r.channel(run, "load");
+  ASSERT_TRUE(load_ch);
+  const auto steps = r.steps(run);
+  ASSERT_EQ(steps.size(), 2u);
+  for (const auto& s : steps) {
+    const double eq = world->equilibrium_load_N(p.steps[s.index].displacement_mm);
+    EXPECT_NEAR(s.stats_for(load_ch->id)->mean, eq, 0.02 * eq + 0.016) << "step " << s.index;
+  }
+}
+
+TEST_F(EngineTest, LoadCellIsNotTaredUnderLoadOrWhenTheProtocolSaysSo) {
+  for (const bool pin_in_sample : {true, false}) {
+    SCOPED_TRACE(pin_in_sample ? "pin in the sample" : "tare_load = false");
+    auto world = std::make_shared<FakeWorld>(kFactor);
+    world->load_cell_offset_N = 0.05;
+    if (pin_in_sample) {
+      std::lock_guard lock(world->mu);
+      world->pos0_mm = world->target_mm = 1.2;  // 0.2 mm past contact: taring would hide load
+    }
+    const fs::path db_path = dir_ / (pin_in_sample ? "in_sample.db" : "no_tare.db");
+    tocd::db::Database db(db_path);
+    Protocol p = parse_protocol(pin_protocol("0.5"), "engine.toml");
+    p.tare_load = !pin_in_sample ? false : true;
+    Engine engine(db, make_fake_instruments(world), fast());
+    const auto run = engine.start(p);
+    EXPECT_EQ(engine.wait(), EngineState::completed) << engine.error();
+    EXPECT_EQ(world->tare_calls, 0);
+    const tocd::db::Reader r(db_path);
+    EXPECT_EQ(has_event(r, run, "tare", "not tared: the pin is at 1.200 mm"), pin_in_sample);
+    const auto load_ch = r.channel(run, "load");
+    ASSERT_TRUE(load_ch);
+    const double eq = world->equilibrium_load_N(0.5);
+    EXPECT_NEAR(r.steps(run).at(0).stats_for(load_ch->id)->mean, eq + 0.05, 0.02 * eq + 0.016);
+  }
 }
 
 TEST_F(EngineTest, PauseResumeThenAbortRetractsAndKeepsData) {

@@ -37,6 +37,15 @@ double FakeWorld::position_mm() const {
 
 double FakeWorld::load_N() const {
   std::lock_guard lock(mu);
+  return raw_load_N_locked() - tare_N;
+}
+
+void FakeWorld::tare() {
+  std::lock_guard lock(mu);
+  tare_N = raw_load_N_locked();
+}
+
+double FakeWorld::raw_load_N_locked() const {
   const double t = now_s();
   const double d = position_mm_locked(t) - contact_mm;
   // Viscoelastic: the load runs relax_fraction above equilibrium while the pin moves and
@@ -44,7 +53,7 @@ double FakeWorld::load_N() const {
   double load = equilibrium_load_N(d) * (1.0 + relax_fraction);
   if (t >= arrive_t)
     load = equilibrium_load_N(d) * (1.0 + relax_fraction * std::exp(-(t - arrive_t) / relax_tau_s));
-  return load + extra_load_N;
+  return load + extra_load_N + load_cell_offset_N;
 }
 
 double FakeWorld::pressure_now_kPa() {
@@ -98,7 +107,10 @@ class FakeTester : public devices::MechanicalTester {
     w_->arrive_t = w_->move_t0 = t;
   }
   void home() override { move_to(0.0, 5.0); }
-  void tare_load() override {}
+  void tare_load() override {
+    ++w_->tare_calls;
+    w_->tare();
+  }
   void set_limits(double, double) override {}
   void clear_fault() override {}
 

@@ -35,25 +35,29 @@ struct FakeWorld {
 
   // Fault hooks (set from the test thread at any time).
   std::atomic<double> extra_load_N{0.0};
+  std::atomic<double> load_cell_offset_N{0.0};  ///< what the cell reads unloaded until tared
   std::atomic<int> fail_tester_reads{0};
   std::atomic<bool> power_over_range{false};
   std::atomic<bool> seal_lost{false};
 
   // Counters.
-  std::atomic<int> stop_calls{0}, move_calls{0}, reads{0};
+  std::atomic<int> stop_calls{0}, move_calls{0}, reads{0}, tare_calls{0};
 
   // State (guarded by mu).
   mutable std::mutex mu;
   double pos0_mm = 0, target_mm = 0, speed = 1, move_t0 = 0, arrive_t = 0;
   double pressure_kPa = kAtmosphere_kPa, setpoint_kPa = kAtmosphere_kPa, pressure_t = 0;
   bool pump = false;
+  double tare_N = 0;  ///< subtracted from the cell's reading since the last tare
 
   double position_mm_locked(double t) const;
   double position_mm() const;
-  double load_N() const;
+  double load_N() const;  ///< what the load cell reports (offset and tare included)
+  void tare();
   double pressure_now_kPa();
 
  private:
+  double raw_load_N_locked() const;
   double clock_factor_;
   std::int64_t start_ns_;
 };

@@ -86,8 +86,10 @@ struct Protocol {
   double contact_position_mm = 0.0;      ///< tester position where the pin touches the sample
   double approach_speed_mm_per_s = 0.5;  ///< pin speed for every step move
   double retract_speed_mm_per_s = 2.0;   ///< pin speed when retracting (abort, trip, end)
-  double hold_s = 0.0;                   ///< wait after settling, before recording
-  double record_s = 1.0;                 ///< recording window per step
+  /// Zero the load cell when a pin run starts, if the pin is clear of the sample then.
+  bool tare_load = true;
+  double hold_s = 0.0;    ///< wait after settling, before recording
+  double record_s = 1.0;  ///< recording window per step
   SettleCriterion settle;
   SamplingRates rates;
   Interlocks interlocks;
