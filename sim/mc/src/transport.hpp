@@ -343,8 +343,11 @@ inline void transport_batch(const KernelTet* tets, const KernelLink* links, cons
   };
   Packet packet[kPacketsInFlight];
   bool live[kPacketsInFlight];
-  bool any = true;
-  for (int i = 0; i < kPacketsInFlight; ++i) any = live[i] = any && launch(packet[i]);
+  bool any = false;
+  for (int i = 0; i < kPacketsInFlight; ++i) {
+    live[i] = launch(packet[i]);
+    any = any || live[i];
+  }
   while (any) {
     any = false;
 #pragma GCC unroll 8
