@@ -75,7 +75,6 @@ std::vector<KernelOptics> kernel_optics(const PreparedMesh& mesh, const Optics& 
     k.n = r.n;
     k.ballistic = (k.mu_s <= s.ballistic_mu_s_per_mm || r.g == 1.0) ? 1 : 0;
     k.inv_mu_t = k.ballistic ? 0.0 : 1.0 / k.mu_t;
-    k.albedo = k.ballistic ? 1.0 : k.mu_s / k.mu_t;
     k.absorb_fraction = k.ballistic ? 0.0 : k.mu_a / k.mu_t;
     k.hg_one_minus_g2 = 1.0 - k.g * k.g;
     k.hg_one_plus_g2 = 1.0 + k.g * k.g;

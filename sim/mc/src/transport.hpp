@@ -20,7 +20,7 @@ namespace tocd::sim::mc {
 
 /// Optical properties of one region in the form the kernel uses.
 struct KernelOptics {
-  double mu_a, mu_s, mu_t, inv_mu_t, albedo, absorb_fraction;  // absorb_fraction = mu_a/mu_t
+  double mu_a, mu_s, mu_t, inv_mu_t, absorb_fraction;  // absorb_fraction = mu_a/mu_t
   double g, n;
   double hg_one_minus_g2, hg_one_plus_g2, hg_one_minus_g, hg_two_g, hg_inv_two_g;  // HG sampling constants
   int ballistic;  // straight flight with continuous absorption (mu_s ~ 0 or g = 1)

@@ -191,7 +191,7 @@ TEST_F(EngineTest, LoadCellIsNotTaredUnderLoadOrWhenTheProtocolSaysSo) {
     const fs::path db_path = dir_ / (pin_in_sample ? "in_sample.db" : "no_tare.db");
     tocd::db::Database db(db_path);
     Protocol p = parse_protocol(pin_protocol("0.5"), "engine.toml");
-    p.tare_load = !pin_in_sample ? false : true;
+    p.tare_load = pin_in_sample;  // in the sample the engine must decline on its own
     Engine engine(db, make_fake_instruments(world), fast());
     const auto run = engine.start(p);
     EXPECT_EQ(engine.wait(), EngineState::completed) << engine.error();
