@@ -45,7 +45,8 @@ CompositeMesh build_composite(const CompositeSpec& spec) {
   const auto t0 = std::chrono::steady_clock::now();
   CompositeMesh result;
   result.size = resolve_size(spec.size);
-  const detail::Layout layout = detail::build_layout(spec, result.size.section_edge_mm);
+  const detail::Layout layout =
+      detail::build_layout(spec, result.size.section_edge_mm, result.size.tip_edge_mm);
   const detail::Plc plc = detail::build_plc(layout, result.size.azimuth_segments);
   result.tetgen_switches = switches_for(result.size);
   result.mesh = detail::tetrahedralize(plc, layout.section, result.tetgen_switches);

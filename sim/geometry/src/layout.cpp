@@ -149,7 +149,8 @@ enum class EdgeKind { surface, axis, slide, chain };
 
 class LayoutBuilder {
  public:
-  LayoutBuilder(const CompositeSpec& spec, double edge) : spec_(spec), h_(edge) {}
+  LayoutBuilder(const CompositeSpec& spec, double edge, double tip_edge)
+      : spec_(spec), h_(edge), h_tip_(std::min(edge, tip_edge)) {}
 
   Layout build() {
     check_spec();
@@ -239,10 +240,17 @@ class LayoutBuilder {
       }
       // Break at the equator so the hemisphere and cylinder each get exact vertices.
       std::vector<double> breaks{u0};
+      // A free apex (resting on glass, no skin conforming to it) keeps a section-edge first
+      // segment: finer facets there would lie within a degree of the plane the apex touches,
+      // an air wedge TetGen cannot recover. Light meets the apex near normal incidence, where
+      // the facets' tilt hardly matters; the tip's steps matter towards the critical angle.
+      const bool free_apex = u0 == 0.0 && h_tip_ < h_ && h_ < u1;
+      if (free_apex) breaks.push_back(h_);
       if (u0 < pin.equator_u() - 1e-9 && pin.equator_u() < u1 - 1e-9) breaks.push_back(pin.equator_u());
       breaks.push_back(u1);
       for (std::size_t b = 0; b + 1 < breaks.size(); ++b) {
-        const int n = std::max(1, static_cast<int>(std::ceil((breaks[b + 1] - breaks[b]) / h_ - 1e-9)));
+        const double step = breaks[b] < pin.equator_u() - 1e-9 && !(free_apex && b == 0) ? h_tip_ : h_;
+        const int n = std::max(1, static_cast<int>(std::ceil((breaks[b + 1] - breaks[b]) / step - 1e-9)));
         for (int i = 1; i <= n; ++i) {
           const bool last = b + 2 == breaks.size() && i == n;
           if (last) {
@@ -296,6 +304,10 @@ class LayoutBuilder {
           breaks.push_back(v[i].arc);
       }
     }
+    // Under the pin the skin top takes the tip's finer steps: its points there become the
+    // contact surface, and where pin and skin part their spacing sets the air wedge's angle.
+    const double under_pin_arc = arc_at_radius(pin.radius);
+    breaks.push_back(under_pin_arc);
     std::sort(breaks.begin(), breaks.end());
     breaks.erase(std::unique(breaks.begin(), breaks.end(), [](double a, double b) { return b - a < 1e-9; }),
                  breaks.end());
@@ -304,7 +316,8 @@ class LayoutBuilder {
     std::vector<Vec2> top;
     std::vector<double> top_arc;
     for (std::size_t b = 0; b + 1 < breaks.size(); ++b) {
-      const int n = std::max(1, static_cast<int>(std::ceil((breaks[b + 1] - breaks[b]) / h_ - 1e-9)));
+      const double step = breaks[b] < under_pin_arc - 1e-9 ? h_tip_ : h_;
+      const int n = std::max(1, static_cast<int>(std::ceil((breaks[b + 1] - breaks[b]) / step - 1e-9)));
       for (int i = (b == 0 ? 0 : 1); i <= n; ++i) {
         const double si = i == n ? breaks[b + 1] : breaks[b] + (breaks[b + 1] - breaks[b]) * i / n;
         top.push_back(at_arc(fe_top_, fe_arc_, si));
@@ -349,6 +362,16 @@ class LayoutBuilder {
     L_.skin_polygon.push_back({top.back().r, 0});
     L_.skin_polygon.push_back({0, 0});
     for (std::size_t k = 0; k < outlines.size(); ++k) add_outline(k, outlines[k]);
+  }
+
+  /// Arc length along the skin top where it first reaches radius r (its end if it never does).
+  double arc_at_radius(double r) const {
+    for (std::size_t i = 0; i + 1 < fe_top_.size(); ++i) {
+      const Vec2 a = fe_top_[i], b = fe_top_[i + 1];
+      if (b.r >= r && b.r > a.r)
+        return fe_arc_[i] + std::clamp((r - a.r) / (b.r - a.r), 0.0, 1.0) * (fe_arc_[i + 1] - fe_arc_[i]);
+    }
+    return fe_arc_.back();
   }
 
   std::vector<OutlineVertex> classify_outline(std::size_t k) {
@@ -557,6 +580,7 @@ class LayoutBuilder {
 
   const CompositeSpec& spec_;
   double h_;
+  double h_tip_;  // segment length of the pin's hemispherical tip and the skin top under it
   Layout L_;
   std::vector<Vec2> fe_top_;
   std::vector<double> fe_arc_;
@@ -574,8 +598,8 @@ int plane_of_edge(const Layout& layout, const Section::Edge& e) {
   return -1;
 }
 
-Layout build_layout(const CompositeSpec& spec, double section_edge_mm) {
-  return LayoutBuilder(spec, section_edge_mm).build();
+Layout build_layout(const CompositeSpec& spec, double section_edge_mm, double tip_edge_mm) {
+  return LayoutBuilder(spec, section_edge_mm, tip_edge_mm).build();
 }
 
 }  // namespace tocd::sim::geometry::detail

@@ -52,9 +52,10 @@ struct Layout {
 };
 
 /// Builds and checks the layout of `spec` with section segments of about `section_edge_mm`
-/// (which also scales the contact and simplification tolerances). Throws GeometryError naming
-/// the surface at fault.
-Layout build_layout(const CompositeSpec& spec, double section_edge_mm);
+/// (which also scales the contact and simplification tolerances), the pin's hemispherical tip
+/// and the skin top under it with segments of about `tip_edge_mm` (at most the section edge).
+/// Throws GeometryError naming the surface at fault.
+Layout build_layout(const CompositeSpec& spec, double section_edge_mm, double tip_edge_mm);
 
 /// Whether edge e of the section lies in one of the layout's planes (then it is part of that
 /// plane's facet, not revolved).

@@ -71,13 +71,10 @@ bool needs_fe(const PredictionRequest& r) {
 }
 
 std::string mesh_key(const PredictionRequest& r) {
-  nlohmann::json j = {{"baseline", r.baseline},
-                      {"preset", r.mesh_preset},
-                      {"max_edge", r.max_edge_mm},
-                      {"pin_length", r.pin_length_mm},
-                      {"pin_radius", r.pin_radius_mm},
-                      {"slide", r.slide_size_mm},
-                      {"slide_thickness", r.slide_thickness_mm}};
+  nlohmann::json j = {{"baseline", r.baseline},        {"preset", r.mesh_preset},
+                      {"max_edge", r.max_edge_mm},     {"tip_edge", r.tip_edge_mm},
+                      {"pin_length", r.pin_length_mm}, {"pin_radius", r.pin_radius_mm},
+                      {"slide", r.slide_size_mm},      {"slide_thickness", r.slide_thickness_mm}};
   if (!r.baseline) {
     j["thickness"] = r.thickness_mm;
     j["displacement"] = r.displacement_mm;
@@ -104,6 +101,7 @@ geometry::CompositeSpec composite_spec(const PredictionRequest& r, const geometr
   s.skin = profile;
   s.size.preset = r.mesh_preset;
   s.size.max_edge_mm = r.max_edge_mm;
+  s.size.tip_edge_mm = r.tip_edge_mm;
   return s;
 }
 

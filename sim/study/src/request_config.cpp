@@ -33,6 +33,7 @@ void validate(const PredictionRequest& r) {
   require(r.batches >= 2, fmt::format("batches must be >= 2, got {}", r.batches));
   require(r.threads >= 0, fmt::format("threads must be >= 0, got {}", r.threads));
   require(r.max_edge_mm >= 0.0, fmt::format("max_edge_mm must be >= 0, got {}", r.max_edge_mm));
+  require(r.tip_edge_mm >= 0.0, fmt::format("tip_edge_mm must be >= 0, got {}", r.tip_edge_mm));
   require(r.pin_radius_mm > 0.0 && r.pin_length_mm > r.pin_radius_mm,
           fmt::format("pin: radius {} mm must be > 0 and below its length {} mm", r.pin_radius_mm,
                       r.pin_length_mm));
@@ -62,6 +63,7 @@ nlohmann::json to_config(const PredictionRequest& r) {
   j["graded"] = to_json(r.graded);
   j["batches"] = r.batches;
   j["max_edge_mm"] = r.max_edge_mm;
+  j["tip_edge_mm"] = r.tip_edge_mm;
   j["pin_length_mm"] = r.pin_length_mm;
   j["pin_radius_mm"] = r.pin_radius_mm;
   j["slide_size_mm"] = r.slide_size_mm;
@@ -90,6 +92,7 @@ PredictionRequest request_from_config(const nlohmann::json& j) {
     if (j.contains("graded")) r.graded = graded_from_json(j.at("graded"));
     if (j.contains("batches")) r.batches = j.at("batches").get<int>();
     num("max_edge_mm", r.max_edge_mm);
+    num("tip_edge_mm", r.tip_edge_mm);
     num("pin_length_mm", r.pin_length_mm);
     num("pin_radius_mm", r.pin_radius_mm);
     num("slide_size_mm", r.slide_size_mm);

@@ -1,4 +1,6 @@
 // Bad profiles and sizes give a GeometryError naming the surface at fault.
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "synthetic_profile.hpp"
@@ -115,6 +117,9 @@ TEST(GeometryErrors, SizesAndPin) {
   spec = indented();
   spec.size.max_edge_mm = -1;
   EXPECT_TRUE(mentions(error_of(spec), "max_edge_mm must be a positive number"));
+  spec = indented();
+  spec.size.tip_edge_mm = std::nan("");
+  EXPECT_TRUE(mentions(error_of(spec), "tip_edge_mm must be a positive number"));
   spec = indented();
   spec.pin_displacement_mm = 2.5;
   EXPECT_TRUE(mentions(error_of(spec), "glass pin: displacement"));

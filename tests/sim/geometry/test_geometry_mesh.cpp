@@ -116,7 +116,10 @@ TEST_P(CompositeCase, RegionVolumesMatchTheGeometry) {
     return;
   }
   if (spec.skin.compressed_outlines.empty()) {
-    EXPECT_NEAR(stats(m, geo::skin)->expected_volume_mm3, 12.5 * 12.5 * spec.skin.thickness_mm, 1e-9);
+    // Flat skin, but where it lies within the contact tolerance (10 um) of the pin's tip it
+    // is lifted onto the pin: a bulge of at most that height over the contact disc.
+    const double bulge = std::numbers::pi * m.contact_radius_mm * m.contact_radius_mm * 0.010;
+    EXPECT_NEAR(stats(m, geo::skin)->expected_volume_mm3, 12.5 * 12.5 * spec.skin.thickness_mm, bulge + 1e-9);
     EXPECT_EQ(stats(m, geo::compressed), nullptr);
   } else {
     // The compressed zone as meshed against the FE outline's own revolved volume: within
@@ -246,6 +249,12 @@ TEST(CompositeGeometry, SizePresets) {
   EXPECT_DOUBLE_EQ(explicit_size.max_volume_mm3, 0.01);
   EXPECT_DOUBLE_EQ(geo::resolve_size({"fast", 0.1, 0}).section_edge_mm, 0.1);  // finer refines it
   EXPECT_DOUBLE_EQ(geo::resolve_size({"fast", 0.6, 0}).section_edge_mm, fast.section_edge_mm);
+  // The pin's tip is faceted finer than the rest of the section, the same for both presets;
+  // an explicit tip segment is honoured but never coarser than the section.
+  EXPECT_LT(fast.tip_edge_mm, fast.section_edge_mm);
+  EXPECT_DOUBLE_EQ(paper.tip_edge_mm, fast.tip_edge_mm);
+  EXPECT_DOUBLE_EQ(geo::resolve_size({"fast", 0, 0, 0.02}).tip_edge_mm, 0.02);
+  EXPECT_DOUBLE_EQ(geo::resolve_size({"fast", 0, 0, 0.5}).tip_edge_mm, fast.section_edge_mm);
   // A finer explicit size gives more tets.
   auto spec = geo::testing::spec_of(Case::flat);
   spec.size.max_edge_mm = 0.6;

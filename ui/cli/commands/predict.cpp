@@ -107,6 +107,7 @@ void install_predict(CLI::App& root) {
       ->check(CLI::IsMember({"fast", "paper"}))
       ->capture_default_str();
   cmd->add_option("--max-edge", r.max_edge_mm, "override the preset's surface edge length (mm)");
+  cmd->add_option("--tip-edge", r.tip_edge_mm, "override the pin tip's segment length (mm)");
   cmd->add_option("--pin-length", r.pin_length_mm, "pin length tip to top face (mm)")->capture_default_str();
   cmd->add_option("--threads", r.threads, "Monte Carlo threads (0 = all cores)")->capture_default_str();
   cmd->add_flag("--baseline", r.baseline, "glass only: pin tip on the slide, no skin");

@@ -49,11 +49,14 @@ enum Marker : int { slide_bottom = 1, slide_sides = 2, top = 3, pin_top = 4, ski
 /// elements, ~0.5 M tets). Both presets describe the same geometry (the same r-z section
 /// segments and azimuths); they differ only in tet size. A positive max_edge_mm overrides the
 /// preset's element edge (and refines the section when finer than its 0.2 mm segments); a
-/// positive max_volume_mm3 overrides the tet volume bound (default: derived from the edge).
+/// positive max_volume_mm3 overrides the tet volume bound (default: derived from the edge);
+/// a positive tip_edge_mm overrides the segment length of the pin's hemispherical tip and of
+/// the skin under it (default 0.05 mm; never coarser than the section).
 struct MeshSize {
   std::string preset = "fast";
   double max_edge_mm = 0;
   double max_volume_mm3 = 0;
+  double tip_edge_mm = 0;  ///< > 0: segment length of the pin's hemispherical tip (default: preset)
 };
 
 struct CompositeSpec {
@@ -78,6 +81,7 @@ struct RegionStats {
 struct ResolvedSize {
   double edge_mm = 0;          ///< target element edge (sets the default volume bound)
   double section_edge_mm = 0;  ///< geometry: segment length of the skin top, pin outline, outlines
+  double tip_edge_mm = 0;      ///< geometry: segment length of the pin's tip and the skin under it
   double max_volume_mm3 = 0;   ///< TetGen volume bound ('a')
   int azimuth_segments = 0;    ///< N (geometry): every revolved surface is an N-gon prism band
   double radius_edge_ratio = 0, min_dihedral_deg = 0;  ///< TetGen quality ('q')

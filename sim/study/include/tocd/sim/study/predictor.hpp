@@ -42,6 +42,7 @@ struct PredictionRequest {
   GradedOptics graded;     ///< used when optics_model == "graded"
   int batches = 20;        ///< Monte Carlo batches for standard errors
   double max_edge_mm = 0;  ///< > 0 overrides the preset's element size
+  double tip_edge_mm = 0;  ///< > 0 overrides the pin tip's segment length
   double pin_length_mm = 3.3, pin_radius_mm = 1.5;
   double slide_size_mm = 12.5, slide_thickness_mm = 1.0;
   double fe_refinement = 1.0;  ///< FeModel::mesh_refinement
