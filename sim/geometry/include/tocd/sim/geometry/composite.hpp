@@ -45,7 +45,7 @@ enum Region : int { pin = 1, slide = 2, air = 3, skin = 4, compressed = 5 };
 /// guided in the slide, or diffused through the skin.
 enum Marker : int { slide_bottom = 1, slide_sides = 2, top = 3, pin_top = 4, skin_sides = 5, air_sides = 6 };
 
-/// Mesh size. `preset` is "fast" (~0.1 M tets, for live prediction) or "paper" (0.2 mm
+/// Mesh size. `preset` is "fast" (0.1-0.2 M tets, for live prediction) or "paper" (0.2 mm
 /// elements, ~0.5 M tets). Both presets describe the same geometry (the same r-z section
 /// segments and azimuths); they differ only in tet size. A positive max_edge_mm overrides the
 /// preset's element edge (and refines the section when finer than its 0.2 mm segments); a
