@@ -240,10 +240,11 @@ class LayoutBuilder {
       }
       // Break at the equator so the hemisphere and cylinder each get exact vertices.
       std::vector<double> breaks{u0};
-      // A free apex (resting on glass, no skin conforming to it) keeps a section-edge first
-      // segment: finer facets there would lie within a degree of the plane the apex touches,
-      // an air wedge TetGen cannot recover. Light meets the apex near normal incidence, where
-      // the facets' tilt hardly matters; the tip's steps matter towards the critical angle.
+      // A free apex (touching the slide or the skin at one point, as on the rigid slide of the
+      // baseline) keeps a section-edge first segment: finer facets there would lie within a
+      // degree of the plane the apex touches, an air wedge TetGen cannot recover. Light meets
+      // the apex near normal incidence, where the facets' tilt hardly matters; the tip's steps
+      // matter towards the critical angle.
       const bool free_apex = u0 == 0.0 && h_tip_ < h_ && h_ < u1;
       if (free_apex) breaks.push_back(h_);
       if (u0 < pin.equator_u() - 1e-9 && pin.equator_u() < u1 - 1e-9) breaks.push_back(pin.equator_u());
