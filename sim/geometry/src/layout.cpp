@@ -41,6 +41,11 @@ bool finite(Vec2 p) {
   return std::isfinite(p.r) && std::isfinite(p.z);
 }
 
+/// Number of equal segments of at most about `step` (1e-9 slack) that cover `length`.
+int segment_count(double length, double step) {
+  return std::max(1, static_cast<int>(std::ceil(length / step - 1e-9)));
+}
+
 /// Cumulative arc length of a polyline.
 std::vector<double> arc_lengths(const std::vector<Vec2>& line) {
   std::vector<double> s(line.size(), 0.0);
@@ -150,7 +155,7 @@ enum class EdgeKind { surface, axis, slide, chain };
 class LayoutBuilder {
  public:
   LayoutBuilder(const CompositeSpec& spec, double edge, double tip_edge)
-      : spec_(spec), h_(edge), h_tip_(std::min(edge, tip_edge)) {}
+      : spec_(spec), h_(edge), h_tip_(tip_edge) {}
 
   Layout build() {
     check_spec();
@@ -251,7 +256,7 @@ class LayoutBuilder {
       breaks.push_back(u1);
       for (std::size_t b = 0; b + 1 < breaks.size(); ++b) {
         const double step = breaks[b] < pin.equator_u() - 1e-9 && !(free_apex && b == 0) ? h_tip_ : h_;
-        const int n = std::max(1, static_cast<int>(std::ceil((breaks[b + 1] - breaks[b]) / step - 1e-9)));
+        const int n = segment_count(breaks[b + 1] - breaks[b], step);
         for (int i = 1; i <= n; ++i) {
           const bool last = b + 2 == breaks.size() && i == n;
           if (last) {
@@ -318,7 +323,7 @@ class LayoutBuilder {
     std::vector<double> top_arc;
     for (std::size_t b = 0; b + 1 < breaks.size(); ++b) {
       const double step = breaks[b] < under_pin_arc - 1e-9 ? h_tip_ : h_;
-      const int n = std::max(1, static_cast<int>(std::ceil((breaks[b + 1] - breaks[b]) / step - 1e-9)));
+      const int n = segment_count(breaks[b + 1] - breaks[b], step);
       for (int i = (b == 0 ? 0 : 1); i <= n; ++i) {
         const double si = i == n ? breaks[b + 1] : breaks[b] + (breaks[b + 1] - breaks[b]) * i / n;
         top.push_back(at_arc(fe_top_, fe_arc_, si));

@@ -53,7 +53,8 @@ struct Layout {
 
 /// Builds and checks the layout of `spec` with section segments of about `section_edge_mm`
 /// (which also scales the contact and simplification tolerances), the pin's hemispherical tip
-/// and the skin top under it with segments of about `tip_edge_mm` (at most the section edge).
+/// and the skin top under it with segments of about `tip_edge_mm` (at most the section edge,
+/// as resolve_size gives it).
 /// Throws GeometryError naming the surface at fault.
 Layout build_layout(const CompositeSpec& spec, double section_edge_mm, double tip_edge_mm);
 
