@@ -10,8 +10,32 @@
 #include "tocd/core/error.hpp"
 #include "tocd/core/log.hpp"
 #include "tocd/core/version.hpp"
+#include "tocd/sim/parallel/team.hpp"
+
+namespace {
+
+// Under MPI an error on any rank ends the whole job: the others may be waiting for it in a
+// collective. The message says which rank failed.
+int fail(const char* kind, const char* what, int status) {
+  auto& team = tocd::sim::parallel::world();
+  if (team.size() > 1) {
+    std::cerr << "tocdlab: " << kind << " (rank " << team.rank() << " of " << team.size() << "): " << what
+              << std::endl;
+    team.abort(status);
+  }
+  std::cerr << "tocdlab: " << kind << ": " << what << '\n';
+  tocd::sim::parallel::finish_world();
+  return status;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
+  // Started by mpirun/srun: join the job now. Only rank 0 prints data; the others' standard
+  // output is discarded so that `--json` stays one document.
+  auto& team = tocd::sim::parallel::world();
+  if (team.rank() != 0) std::cout.rdbuf(nullptr);
+
   CLI::App app{
       "tocdlab — tissue optical clearing lab workbench: instruments, measurement "
       "database, FE + Monte Carlo prediction"};
@@ -30,14 +54,15 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);  // subcommand callbacks run inside parse
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    const int status = app.exit(e);
+    tocd::sim::parallel::finish_world();
+    return status;
   } catch (const tocd::Error& e) {
-    std::cerr << "tocdlab: error: " << e.what() << '\n';
-    return 1;
+    return fail("error", e.what(), 1);
   } catch (const std::exception& e) {
-    std::cerr << "tocdlab: internal error: " << e.what() << '\n';
-    return 2;
+    return fail("internal error", e.what(), 2);
   }
   if (app.get_subcommands().empty()) std::cout << app.help();
+  tocd::sim::parallel::finish_world();
   return 0;
 }

@@ -12,6 +12,7 @@ nlohmann::json to_json(const Result& r) {
   j["photons"] = r.photons;
   j["seed"] = r.seed;
   j["threads"] = r.threads;
+  j["ranks"] = r.ranks;
   j["batches"] = r.batches;
   j["cancelled"] = r.cancelled;
   j["transmittance"] = estimate(r.transmittance);

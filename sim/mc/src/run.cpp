@@ -1,7 +1,8 @@
 // Batching, threading and reduction around the transport kernel. A batch is a fixed,
-// contiguous range of photon indices; batches run in waves of `threads`, and the master
-// adds finished batches into the totals in batch order. With one random stream per photon
-// this makes every tally bitwise identical whatever the thread count.
+// contiguous range of photon indices; batches run in waves of `threads`, and the master adds
+// each finished batch's totals into exact (fixed-point, order-free) sums. With one random
+// stream per photon this makes every tally bitwise identical whatever the thread count and
+// however the batches are shared among MPI ranks.
 #include "tocd/sim/mc/run.hpp"
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <fmt/format.h>
 #include <omp.h>
 
+#include "exact_sum.hpp"
 #include "launcher.hpp"
 #include "tocd/core/clock.hpp"
 #include "transport.hpp"
@@ -33,26 +35,53 @@ struct BatchStore {
   }
 };
 
-// Running sums over batches of x_b (batch total) and x_b^2 / n_b, for mean and SE.
-struct Accumulator {
-  double sum = 0.0, sum_sq_per_n = 0.0;
-  void add(double x, std::uint64_t n) {
-    sum += x;
-    sum_sq_per_n += x * x / static_cast<double>(n);
+// Where each tallied quantity sits in a run's exact tallies. A quantity estimated from batch
+// totals x_b takes two fixed-point numbers: sum_b x_b and sum_b x_b^2 / n_b. After them come
+// plain integer counts.
+struct TallyLayout {
+  static constexpr int kPerQuantity = 2 * kExactLimbs;
+  enum Scalar { specular, missed, roulette, lost, bottom, top, sides, absorbed, kScalars };
+  enum Count { launched, batches, events, face_hits, cancelled, kCounts };
+  std::vector<std::int32_t> markers;  // ascending
+  std::size_t nr = 0, nt = 0;
+
+  TallyLayout(const PreparedMesh& mesh, std::size_t regions, bool per_tet)
+      : nr(regions), nt(per_tet ? mesh.tets.size() : 0) {
+    for (const auto& g : mesh.groups) markers.push_back(g.marker);
+    std::sort(markers.begin(), markers.end());
+    markers.erase(std::unique(markers.begin(), markers.end()), markers.end());
   }
-  Estimate estimate(std::uint64_t total, int batches) const {
-    Estimate e;
-    if (total == 0) return e;
-    const double nt = static_cast<double>(total);
-    e.mean = sum / nt;
-    if (batches > 1) {
-      // sum_b n_b (m_b - m)^2 / (B - 1) estimates the per-photon variance.
-      const double spread = std::max(0.0, sum_sq_per_n - nt * e.mean * e.mean);
-      e.se = std::sqrt(spread / (batches - 1) / nt);
-    }
-    return e;
-  }
+  std::size_t quantities() const { return kScalars + markers.size() + nr + nt; }
+  std::size_t scalar(int s) const { return static_cast<std::size_t>(s); }
+  std::size_t marker(std::size_t i) const { return kScalars + i; }
+  std::size_t region(std::size_t r) const { return kScalars + markers.size() + r; }
+  std::size_t tet(std::size_t kt) const { return kScalars + markers.size() + nr + kt; }
+  std::size_t count(int c) const { return quantities() * kPerQuantity + static_cast<std::size_t>(c); }
+  std::size_t words() const { return quantities() * kPerQuantity + kCounts; }
 };
+
+// Adds one batch's total x of quantity q (n photons in the batch) to the tallies.
+void add_batch_total(std::int64_t* words, std::size_t q, double x, std::uint64_t n) {
+  std::int64_t* w = words + q * TallyLayout::kPerQuantity;
+  exact_add(x, w);
+  exact_add(x * x / static_cast<double>(n), w + kExactLimbs);
+}
+
+// Mean and standard error of quantity q over `total` photons in `batches` batches.
+Estimate estimate(const std::int64_t* words, std::size_t q, std::uint64_t total, std::int64_t batches) {
+  Estimate e;
+  if (total == 0) return e;
+  const std::int64_t* w = words + q * TallyLayout::kPerQuantity;
+  const double sum = exact_value(w), sum_sq_per_n = exact_value(w + kExactLimbs);
+  const double nt = static_cast<double>(total);
+  e.mean = sum / nt;
+  if (batches > 1) {
+    // sum_b n_b (m_b - m)^2 / (B - 1) estimates the per-photon variance.
+    const double spread = std::max(0.0, sum_sq_per_n - nt * e.mean * e.mean);
+    e.se = std::sqrt(spread / static_cast<double>(batches - 1) / nt);
+  }
+  return e;
+}
 
 std::vector<KernelOptics> kernel_optics(const PreparedMesh& mesh, const Optics& optics,
                                         const RunSettings& s) {
@@ -91,6 +120,10 @@ void check_settings(const RunSettings& s) {
   if (s.batches < 2)
     throw tocd::ConfigError(fmt::format("batches = {} must be >= 2 for standard errors", s.batches));
   if (static_cast<std::uint64_t>(s.batches) > s.photons) throw tocd::ConfigError("more batches than photons");
+  if (s.photons > (std::uint64_t{1} << 53))
+    throw tocd::ConfigError(fmt::format("photons = {} exceeds the limit of 2^53 (9.0e15)", s.photons));
+  if (s.batches > (1 << 24))
+    throw tocd::ConfigError(fmt::format("batches = {} exceeds the limit of 2^24", s.batches));
   if (s.threads < 1) throw tocd::ConfigError(fmt::format("threads = {} must be >= 1", s.threads));
   if (!(s.ambient_n > 0.0)) throw tocd::ConfigError(fmt::format("ambient_n = {} must be > 0", s.ambient_n));
   if (!(s.roulette_threshold > 0.0 && s.roulette_threshold < 1.0) || s.roulette_chance < 2) {
@@ -100,9 +133,12 @@ void check_settings(const RunSettings& s) {
 
 }  // namespace
 
-Result run(const PreparedMesh& mesh, const Optics& optics, const Source& source,
-           const RunSettings& settings) {
+Tallies run_batches(const PreparedMesh& mesh, const Optics& optics, const Source& source,
+                    const RunSettings& settings, int first_batch, int last_batch) {
   check_settings(settings);
+  if (first_batch < 0 || last_batch > settings.batches || first_batch > last_batch)
+    throw tocd::ConfigError(fmt::format("batches [{}, {}) lie outside the run's {} batches", first_batch,
+                                        last_batch, settings.batches));
   const std::vector<KernelOptics> kopt = kernel_optics(mesh, optics, settings);
   const Launcher launcher(mesh, source);
   const KernelSettings ks{settings.ambient_n,
@@ -112,28 +148,31 @@ Result run(const PreparedMesh& mesh, const Optics& optics, const Source& source,
                           source.entry_specular,
                           {mesh.origin[0], mesh.origin[1], mesh.origin[2]}};
 
-  const std::size_t nt = settings.tally_per_tet ? mesh.tets.size() : 0;
-  const std::size_t nr = kopt.size(), ng = mesh.groups.size();
+  const TallyLayout layout(mesh, kopt.size(), settings.tally_per_tet);
+  const std::size_t nt = layout.nt, nr = kopt.size(), ng = mesh.groups.size();
   const int batches = settings.batches;
-  const int threads = std::min(settings.threads, batches);
+  const int mine = last_batch - first_batch;
+  const int threads = std::max(1, std::min(settings.threads, mine));
   const std::uint64_t n = settings.photons;
   auto batch_begin = [&](int b) {
     return n * static_cast<std::uint64_t>(b) / static_cast<std::uint64_t>(batches);
   };
+  const std::uint64_t my_photons = batch_begin(last_batch) - batch_begin(first_batch);
 
-  Accumulator specular, missed, roulette, lost, bottom, top, sides, absorbed;
-  std::map<std::int32_t, Accumulator> by_marker;
-  for (const auto& g : mesh.groups) by_marker[g.marker];
-  std::vector<Accumulator> per_tet(nt), per_region(nr), per_group(ng);
+  Tallies out;
+  out.words.assign(layout.words(), 0);
+  std::int64_t* w = out.words.data();
+  std::vector<std::size_t> marker_slot(ng);  // boundary group -> index in layout.markers
+  for (std::size_t g = 0; g < ng; ++g)
+    marker_slot[g] = static_cast<std::size_t>(
+        std::lower_bound(layout.markers.begin(), layout.markers.end(), mesh.groups[g].marker) -
+        layout.markers.begin());
   std::vector<BatchStore> slots(static_cast<std::size_t>(threads));
   std::atomic<std::uint64_t> done{0};
   std::atomic<bool> stop{false};
-  std::uint64_t launched = 0, events = 0, face_hits = 0;
-  int batches_done = 0;
 
-  const std::int64_t t0 = tocd::monotonic_ns();
-  for (int wave = 0; wave < batches && !stop.load(); wave += threads) {
-    const int in_wave = std::min(threads, batches - wave);
+  for (int wave = first_batch; wave < last_batch && !stop.load(); wave += threads) {
+    const int in_wave = std::min(threads, last_batch - wave);
 #pragma omp parallel for num_threads(threads) schedule(static, 1)
     for (int i = 0; i < in_wave; ++i) {
       BatchStore& slot = slots[static_cast<std::size_t>(i)];
@@ -146,7 +185,9 @@ Result run(const PreparedMesh& mesh, const Optics& optics, const Source& source,
           done.fetch_add(1024, std::memory_order_relaxed);
           if (settings.cancel && settings.cancel->load(std::memory_order_relaxed)) stop.store(true);
           if (stop.load(std::memory_order_relaxed)) return false;
-          if (settings.progress && omp_get_thread_num() == 0) settings.progress(done.load(), n);
+          // This member's share, scaled to the whole run: the others progress alike.
+          if (settings.progress && omp_get_thread_num() == 0)
+            settings.progress(std::min(n, done.load() * n / my_photons), n);
         }
         rng = PhotonRng(settings.seed, photon);
         entry = launcher.sample(rng);
@@ -159,56 +200,75 @@ Result run(const PreparedMesh& mesh, const Optics& optics, const Source& source,
     if (stop.load()) break;  // a cancelled wave is incomplete: keep only whole batches
     for (int i = 0; i < in_wave; ++i) {
       const BatchStore& b = slots[static_cast<std::size_t>(i)];
-      specular.add(b.tally.specular, b.photons);
-      missed.add(b.tally.missed, b.photons);
-      roulette.add(b.tally.roulette, b.photons);
-      lost.add(b.tally.lost, b.photons);
-      for (std::size_t t = 0; t < nt; ++t) per_tet[t].add(b.per_tet[t], b.photons);
-      for (std::size_t r = 0; r < nr; ++r) per_region[r].add(b.per_region[r], b.photons);
-      for (std::size_t g = 0; g < ng; ++g) per_group[g].add(b.per_group[g], b.photons);
+      auto add = [&](std::size_t q, double x) { add_batch_total(w, q, x, b.photons); };
+      add(layout.scalar(TallyLayout::specular), b.tally.specular);
+      add(layout.scalar(TallyLayout::missed), b.tally.missed);
+      add(layout.scalar(TallyLayout::roulette), b.tally.roulette);
+      add(layout.scalar(TallyLayout::lost), b.tally.lost);
+      for (std::size_t t = 0; t < nt; ++t) add(layout.tet(t), b.per_tet[t]);
       // Sides, markers and total absorption are combined per batch so that their standard
       // errors come from batch totals too.
       double side_sum[3] = {0.0, 0.0, 0.0}, absorbed_sum = 0.0;
-      std::map<std::int32_t, double> marker_sum;
+      std::vector<double> marker_sum(layout.markers.size(), 0.0);
       for (std::size_t g = 0; g < ng; ++g) {
         side_sum[static_cast<int>(mesh.groups[g].side)] += b.per_group[g];
-        marker_sum[mesh.groups[g].marker] += b.per_group[g];
+        marker_sum[marker_slot[g]] += b.per_group[g];
       }
-      for (std::size_t r = 0; r < nr; ++r) absorbed_sum += b.per_region[r];
-      bottom.add(side_sum[static_cast<int>(Side::bottom)], b.photons);
-      top.add(side_sum[static_cast<int>(Side::top)], b.photons);
-      sides.add(side_sum[static_cast<int>(Side::sides)], b.photons);
-      absorbed.add(absorbed_sum, b.photons);
-      for (const auto& [marker, w] : marker_sum) by_marker[marker].add(w, b.photons);
-      launched += b.photons;
-      events += b.tally.events;
-      face_hits += b.tally.face_hits;
-      ++batches_done;
+      for (std::size_t r = 0; r < nr; ++r) {
+        add(layout.region(r), b.per_region[r]);
+        absorbed_sum += b.per_region[r];
+      }
+      add(layout.scalar(TallyLayout::bottom), side_sum[static_cast<int>(Side::bottom)]);
+      add(layout.scalar(TallyLayout::top), side_sum[static_cast<int>(Side::top)]);
+      add(layout.scalar(TallyLayout::sides), side_sum[static_cast<int>(Side::sides)]);
+      add(layout.scalar(TallyLayout::absorbed), absorbed_sum);
+      for (std::size_t m = 0; m < marker_sum.size(); ++m) add(layout.marker(m), marker_sum[m]);
+      w[layout.count(TallyLayout::launched)] += static_cast<std::int64_t>(b.photons);
+      w[layout.count(TallyLayout::events)] += static_cast<std::int64_t>(b.tally.events);
+      w[layout.count(TallyLayout::face_hits)] += static_cast<std::int64_t>(b.tally.face_hits);
+      w[layout.count(TallyLayout::batches)] += 1;
     }
-    if (settings.progress) settings.progress(launched, n);
+    if (settings.progress) {
+      const auto launched = static_cast<std::uint64_t>(w[layout.count(TallyLayout::launched)]);
+      settings.progress(std::min(n, launched * n / my_photons), n);
+    }
   }
-  const double seconds = static_cast<double>(tocd::monotonic_ns() - t0) * 1e-9;
+  w[layout.count(TallyLayout::cancelled)] = stop.load() ? 1 : 0;
+  out.threads = threads;
+  return out;
+}
+
+Result finish(const PreparedMesh& mesh, const Optics& optics, const RunSettings& settings,
+              const Tallies& tallies) {
+  const std::vector<KernelOptics> kopt = kernel_optics(mesh, optics, settings);
+  const TallyLayout layout(mesh, kopt.size(), settings.tally_per_tet);
+  if (tallies.words.size() != layout.words())
+    throw tocd::Error(fmt::format("Monte Carlo tallies of {} words do not fit this run ({} expected)",
+                                  tallies.words.size(), layout.words()));
+  const std::int64_t* w = tallies.words.data();
+  const auto launched = static_cast<std::uint64_t>(w[layout.count(TallyLayout::launched)]);
+  const std::int64_t batches = w[layout.count(TallyLayout::batches)];
+  auto est = [&](std::size_t q) { return estimate(w, q, launched, batches); };
 
   Result res;
   res.photons = launched;
   res.seed = settings.seed;
-  res.threads = threads;
-  res.batches = batches_done;
-  res.cancelled = stop.load();
-  res.specular = specular.estimate(launched, batches_done);
-  res.missed = missed.estimate(launched, batches_done);
-  res.roulette_balance = roulette.estimate(launched, batches_done);
-  res.lost = lost.estimate(launched, batches_done);
-
-  res.transmittance = bottom.estimate(launched, batches_done);
-  res.reflectance = top.estimate(launched, batches_done);
-  res.side_loss = sides.estimate(launched, batches_done);
-  res.absorbed = absorbed.estimate(launched, batches_done);
-  for (const auto& [marker, acc] : by_marker)
-    res.exit_by_marker[marker] = acc.estimate(launched, batches_done);
-  for (std::size_t r = 0; r < nr; ++r) {
-    res.absorbed_by_region[mesh.region_ids[r]] = per_region[r].estimate(launched, batches_done);
-  }
+  res.threads = tallies.threads;
+  res.batches = static_cast<int>(batches);
+  res.cancelled = w[layout.count(TallyLayout::cancelled)] != 0;
+  res.specular = est(layout.scalar(TallyLayout::specular));
+  res.missed = est(layout.scalar(TallyLayout::missed));
+  res.roulette_balance = est(layout.scalar(TallyLayout::roulette));
+  res.lost = est(layout.scalar(TallyLayout::lost));
+  res.transmittance = est(layout.scalar(TallyLayout::bottom));
+  res.reflectance = est(layout.scalar(TallyLayout::top));
+  res.side_loss = est(layout.scalar(TallyLayout::sides));
+  res.absorbed = est(layout.scalar(TallyLayout::absorbed));
+  for (std::size_t m = 0; m < layout.markers.size(); ++m)
+    res.exit_by_marker[layout.markers[m]] = est(layout.marker(m));
+  for (std::size_t r = 0; r < layout.nr; ++r)
+    res.absorbed_by_region[mesh.region_ids[r]] = est(layout.region(r));
+  const std::size_t nt = layout.nt;
   if (nt > 0) {
     res.absorbed_per_tet.resize(nt);
     res.absorbed_per_tet_se.resize(nt);
@@ -216,7 +276,7 @@ Result run(const PreparedMesh& mesh, const Optics& optics, const Source& source,
     res.fluence_per_tet_se.assign(nt, 0.0);
     for (std::size_t kt = 0; kt < nt; ++kt) {  // kernel order -> input order
       const auto t = static_cast<std::size_t>(mesh.original_of[kt]);
-      const Estimate e = per_tet[kt].estimate(launched, batches_done);
+      const Estimate e = est(layout.tet(kt));
       res.absorbed_per_tet[t] = e.mean;
       res.absorbed_per_tet_se[t] = e.se;
       const double mu_a = kopt[static_cast<std::size_t>(mesh.links[kt].region_slot)].mu_a;
@@ -227,15 +287,36 @@ Result run(const PreparedMesh& mesh, const Optics& optics, const Source& source,
     }
   }
   if (launched > 0) {
-    const double accounted =
-        specular.sum + bottom.sum + top.sum + sides.sum + absorbed.sum + roulette.sum + missed.sum + lost.sum;
+    double accounted = 0.0;
+    for (int s : {TallyLayout::specular, TallyLayout::bottom, TallyLayout::top, TallyLayout::sides,
+                  TallyLayout::absorbed, TallyLayout::roulette, TallyLayout::missed, TallyLayout::lost})
+      accounted += exact_value(w + layout.scalar(s) * TallyLayout::kPerQuantity);
     res.energy_balance_error = (static_cast<double>(launched) - accounted) / static_cast<double>(launched);
   }
-  res.seconds = seconds;
-  res.events = events;
-  res.face_hits = face_hits;
-  res.photons_per_second = seconds > 0 ? static_cast<double>(launched) / seconds : 0.0;
-  res.events_per_second = seconds > 0 ? static_cast<double>(events) / seconds : 0.0;
+  res.events = static_cast<std::uint64_t>(w[layout.count(TallyLayout::events)]);
+  res.face_hits = static_cast<std::uint64_t>(w[layout.count(TallyLayout::face_hits)]);
+  return res;
+}
+
+Result run(const PreparedMesh& mesh, const Optics& optics, const Source& source,
+           const RunSettings& settings) {
+  check_settings(settings);
+  parallel::Team& team = settings.team ? *settings.team : parallel::solo();
+  const std::int64_t t0 = tocd::monotonic_ns();
+  // Member r runs the r-th contiguous block of batches; which member ran a batch never
+  // changes its photons, and the exact sum makes the order of combination irrelevant.
+  const auto share = [&](int r) {
+    return static_cast<int>(static_cast<std::int64_t>(settings.batches) * r / team.size());
+  };
+  Tallies tallies = run_batches(mesh, optics, source, settings, share(team.rank()), share(team.rank() + 1));
+  const int threads = tallies.threads;
+  team.sum(tallies.words);
+  tallies.threads = threads;
+  Result res = finish(mesh, optics, settings, tallies);
+  res.ranks = team.size();
+  res.seconds = static_cast<double>(tocd::monotonic_ns() - t0) * 1e-9;
+  res.photons_per_second = res.seconds > 0 ? static_cast<double>(res.photons) / res.seconds : 0.0;
+  res.events_per_second = res.seconds > 0 ? static_cast<double>(res.events) / res.seconds : 0.0;
   return res;
 }
 

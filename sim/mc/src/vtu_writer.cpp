@@ -1,7 +1,6 @@
-#include <fstream>
-
 #include <fmt/format.h>
 
+#include "tocd/core/atomic_file.hpp"
 #include "tocd/sim/mc/output.hpp"
 
 namespace tocd::sim::mc {
@@ -11,8 +10,8 @@ void write_fluence_vtu(const PreparedMesh& mesh, const Result& result, const std
   if (result.fluence_per_tet.size() != m.tets.size()) {
     throw tocd::Error("fluence output needs per-tet tallies from a run on this mesh (tally_per_tet on)");
   }
-  std::ofstream out(path);
-  if (!out) throw tocd::Error(fmt::format("cannot write {}", path.string()));
+  tocd::AtomicFile file(path);  // a killed run leaves no .vtu that looks complete
+  std::ostream& out = file.stream();
   out << "<?xml version=\"1.0\"?>\n"
          "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
          "header_type=\"UInt64\">\n"
@@ -41,7 +40,7 @@ void write_fluence_vtu(const PreparedMesh& mesh, const Result& result, const std
   doubles("fluence_se", result.fluence_per_tet_se);
   doubles("absorbed", result.absorbed_per_tet);
   out << "</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
-  if (!out) throw tocd::Error(fmt::format("error writing {}", path.string()));
+  file.commit();
 }
 
 }  // namespace tocd::sim::mc

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "tocd/core/atomic_file.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/sim/mc/output.hpp"
 #include "tocd/sim/mesh/topology.hpp"
@@ -125,8 +126,8 @@ std::vector<SliceSample> sample_slice(const mesh::TetMesh& mesh, const TetLocato
 }
 
 void write_slice_csv(const std::vector<SliceSample>& samples, const std::filesystem::path& path) {
-  std::ofstream out(path);
-  if (!out) throw tocd::Error(fmt::format("cannot write {}", path.string()));
+  tocd::AtomicFile file(path);
+  std::ostream& out = file.stream();
   out << "x_mm,y_mm,z_mm,region,fluence,fluence_se\n";
   for (const auto& s : samples) {
     if (s.tet < 0)
@@ -135,7 +136,7 @@ void write_slice_csv(const std::vector<SliceSample>& samples, const std::filesys
       out << fmt::format("{:.6g},{:.6g},{:.6g},{},{:.9g},{:.9g}\n", s.p[0], s.p[1], s.p[2], s.region,
                          s.fluence, s.fluence_se);
   }
-  if (!out) throw tocd::Error(fmt::format("cannot write {}", path.string()));
+  file.commit();
 }
 
 std::vector<SliceGrid> standard_slices(const mesh::BoundingBox& box, double tip_z_mm, double spacing_mm) {
@@ -151,13 +152,17 @@ std::vector<SliceGrid> standard_slices(const mesh::BoundingBox& box, double tip_
   return {h, v};
 }
 
+FluenceFiles fluence_file_names(const std::filesystem::path& dir, const std::string& stem) {
+  return {dir / (stem + ".vtu"), dir / (stem + "_horizontal.csv"), dir / (stem + "_vertical.csv")};
+}
+
 FluenceFiles write_fluence_files(const mc::PreparedMesh& mesh, const mc::Result& result, double tip_z_mm,
                                  const std::filesystem::path& dir, const std::string& stem,
                                  double spacing_mm) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw tocd::Error(fmt::format("cannot create fluence folder {}: {}", dir.string(), ec.message()));
-  FluenceFiles files{dir / (stem + ".vtu"), dir / (stem + "_horizontal.csv"), dir / (stem + "_vertical.csv")};
+  const FluenceFiles files = fluence_file_names(dir, stem);
   mc::write_fluence_vtu(mesh, result, files.vtu);
   const TetLocator locator(mesh.mesh);
   const auto grids = standard_slices(mesh.box, tip_z_mm, spacing_mm);

@@ -192,8 +192,19 @@ struct Predictor::Impl {
   }
 };
 
-Prediction Predictor::predict(const PredictionRequest& r) {
+// A request with its FE, mesh and Monte Carlo inputs ready: everything of a prediction but
+// the photons.
+struct Predictor::Staged {
   Prediction out;
+  std::shared_ptr<const PreparedEntry> prepared;
+  mc::Optics optics;
+  mc::Source source;
+  mc::RunSettings settings;
+};
+
+Predictor::Staged Predictor::stage(const PredictionRequest& r) {
+  Staged st;
+  Prediction& out = st.out;
   out.config = to_config(r);  // validates
   const auto t_fe = Clock::now();
   bool fe_hit = true, mesh_hit = true;
@@ -203,7 +214,7 @@ Prediction Predictor::predict(const PredictionRequest& r) {
   out.fe_seconds = since(t_fe);
   const auto t_mesh = Clock::now();
   bool ignored = true;
-  const auto prepared = impl_->prepare(r, ignored, mesh_hit);
+  st.prepared = impl_->prepare(r, ignored, mesh_hit);
   out.mesh_seconds = since(t_mesh);
   out.fe_cached = fe_hit;
   out.mesh_cached = mesh_hit;
@@ -217,24 +228,26 @@ Prediction Predictor::predict(const PredictionRequest& r) {
     out.fe_summary["solve_seconds"] = fe_entry->seconds;
   }
   out.fe_summary["cached"] = fe_hit;
-  out.mesh_stats = mesh_stats(*prepared);
+  out.mesh_stats = mesh_stats(*st.prepared);
   out.mesh_stats["cached"] = mesh_hit;
-  out.tets = prepared->prepared.mesh.tets.size();
+  out.tets = st.prepared->prepared.mesh.tets.size();
 
-  const mc::Optics optics = (!r.baseline && r.optics_model == "graded")
-                                ? graded_optics(r.graded)
-                                : threshold_optics(r.compressed_optics);
-  mc::Source source;
-  source.kind = mc::Source::Kind::marker;
-  source.marker = geometry::Marker::pin_top;
-  mc::RunSettings s;
+  st.optics = (!r.baseline && r.optics_model == "graded") ? graded_optics(r.graded)
+                                                          : threshold_optics(r.compressed_optics);
+  st.source.kind = mc::Source::Kind::marker;
+  st.source.marker = geometry::Marker::pin_top;
+  mc::RunSettings& s = st.settings;
   s.photons = r.photons;
   s.seed = r.seed;
   s.batches = r.batches;
   s.threads = r.threads > 0 ? r.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   s.ambient_n = 1.0;
   s.tally_per_tet = !r.fluence_dir.empty();
-  const mc::Result res = mc::run(prepared->prepared, optics, source, s);
+  return st;
+}
+
+void Predictor::complete(const PredictionRequest& r, Staged& st, const mc::Result& res) {
+  Prediction& out = st.out;
   out.mc_seconds = res.seconds;
   out.T = res.transmittance.mean;
   out.T_stderr = res.transmittance.se;
@@ -249,23 +262,49 @@ Prediction Predictor::predict(const PredictionRequest& r) {
   out.absorbed = res.absorbed.mean;
   out.specular = res.specular.mean;
   out.mc = mc::to_json(res);
-  out.mc["source"] = mc::describe(source);
+  out.mc["source"] = mc::describe(st.source);
   out.config["optics"] = nlohmann::json::object();
-  for (const auto& [id, o] : optics.regions) out.config["optics"][std::to_string(id)] = to_json(o);
+  for (const auto& [id, o] : st.optics.regions) out.config["optics"][std::to_string(id)] = to_json(o);
 
   if (!r.fluence_dir.empty()) {
     const double tip_z = r.baseline ? 0.0 : r.thickness_mm - r.displacement_mm;
-    const auto files = write_fluence_files(prepared->prepared, res, tip_z, r.fluence_dir,
-                                           r.fluence_stem.empty() ? "prediction" : r.fluence_stem);
+    const std::string stem = r.fluence_stem.empty() ? "prediction" : r.fluence_stem;
+    const auto files = fluence_file_names(r.fluence_dir, stem);
+    // Every member of a team has the same result; one writes it.
+    if (!team_ || team_->rank() == 0)
+      write_fluence_files(st.prepared->prepared, res, tip_z, r.fluence_dir, stem);
     out.fluence = {{"vtu", files.vtu.string()},
                    {"horizontal_csv", files.horizontal_csv.string()},
                    {"vertical_csv", files.vertical_csv.string()},
                    {"horizontal_z_mm", tip_z}};
   }
-  return out;
 }
 
-Predictor::Predictor(int worker_threads) : impl_(std::make_unique<Impl>()) {
+Prediction Predictor::predict(const PredictionRequest& r) {
+  Staged st = stage(r);
+  st.settings.team = team_;
+  const mc::Result res = mc::run(st.prepared->prepared, st.optics, st.source, st.settings);
+  complete(r, st, res);
+  return std::move(st.out);
+}
+
+mc::Tallies Predictor::run_batches(const PredictionRequest& r, int first_batch, int last_batch) {
+  const Staged st = stage(r);
+  return mc::run_batches(st.prepared->prepared, st.optics, st.source, st.settings, first_batch, last_batch);
+}
+
+Prediction Predictor::assemble(const PredictionRequest& r, const mc::Tallies& summed, double mc_seconds) {
+  Staged st = stage(r);
+  mc::Result res = mc::finish(st.prepared->prepared, st.optics, st.settings, summed);
+  res.seconds = mc_seconds;
+  res.photons_per_second = mc_seconds > 0 ? static_cast<double>(res.photons) / mc_seconds : 0.0;
+  res.events_per_second = mc_seconds > 0 ? static_cast<double>(res.events) / mc_seconds : 0.0;
+  complete(r, st, res);
+  return std::move(st.out);
+}
+
+Predictor::Predictor(int worker_threads, parallel::Team* team)
+    : impl_(std::make_unique<Impl>()), team_(team && team->size() > 1 ? team : nullptr) {
   const int n = std::max(1, worker_threads);
   for (int i = 0; i < n; ++i) workers_.emplace_back([this] { work(); });
 }

@@ -175,6 +175,14 @@ void fill_relatives(StudyTable& t) {
   }
 }
 
+StudyRow start_row(const StudyCase& c) {
+  StudyRow row;
+  row.c = c;
+  if (!c.request.fluence_dir.empty()) row.c.request.fluence_stem = fmt::format("sim{:02d}", c.id);
+  row.strain = c.request.baseline ? 0.0 : c.request.displacement_mm / c.request.thickness_mm;
+  return row;
+}
+
 StudyTable run_study(Predictor& predictor, const std::vector<StudyCase>& cases, const StudySettings& settings,
                      int ref_a, int ref_b, const std::function<void(const StudyRow&)>& progress) {
   StudyTable t;
@@ -183,13 +191,10 @@ StudyTable run_study(Predictor& predictor, const std::vector<StudyCase>& cases, 
   t.ref_b = ref_b;
   const auto t0 = std::chrono::steady_clock::now();
   for (const auto& c : cases) {
-    StudyRow row;
-    row.c = c;
-    if (!c.request.fluence_dir.empty()) row.c.request.fluence_stem = fmt::format("sim{:02d}", c.id);
+    StudyRow row = start_row(c);
     const auto s0 = std::chrono::steady_clock::now();
     row.p = predictor.predict(row.c.request);
     row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
-    row.strain = c.request.baseline ? 0.0 : c.request.displacement_mm / c.request.thickness_mm;
     t.rows.push_back(std::move(row));
     fill_relatives(t);
     if (progress) progress(t.rows.back());

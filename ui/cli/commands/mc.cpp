@@ -15,6 +15,7 @@
 #include "tocd/sim/mc/source.hpp"
 #include "tocd/sim/mesh/slab_mesh.hpp"
 #include "tocd/sim/mesh/tetgen_io.hpp"
+#include "tocd/sim/parallel/team.hpp"
 
 namespace {
 
@@ -31,8 +32,9 @@ void print_text(const tocd::sim::mc::Result& r, const std::string& source) {
   auto line = [](const char* name, const tocd::sim::mc::Estimate& e) {
     std::cout << fmt::format("  {:<18} {:.6f} +- {:.6f}\n", name, e.mean, e.se);
   };
-  std::cout << fmt::format("{} photons, seed {}, {} threads, {} batches; source: {}\n", r.photons, r.seed,
-                           r.threads, r.batches, source);
+  std::cout << fmt::format("{} photons, seed {}, {} threads{}, {} batches; source: {}\n", r.photons, r.seed,
+                           r.threads, r.ranks > 1 ? fmt::format(" x {} ranks", r.ranks) : "", r.batches,
+                           source);
   line("transmittance", r.transmittance);
   line("reflectance", r.reflectance);
   line("side loss", r.side_loss);
@@ -62,8 +64,9 @@ void run_mc(const McOptions& o) {
   s.batches = o.batches;
   s.ambient_n = o.ambient_n ? *o.ambient_n : (optics.ambient_n > 0.0 ? optics.ambient_n : 1.0);
   s.tally_per_tet = !o.vtu.empty();
+  s.team = &tocd::sim::parallel::world();  // under mpirun the ranks share the photons
   const mc::Result r = mc::run(mesh, optics, source, s);
-  if (!o.vtu.empty()) mc::write_fluence_vtu(mesh, r, o.vtu);
+  if (!o.vtu.empty() && s.team->rank() == 0) mc::write_fluence_vtu(mesh, r, o.vtu);
   if (o.json) {
     nlohmann::json j = mc::to_json(r);
     j["source"] = mc::describe(source);

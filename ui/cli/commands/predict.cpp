@@ -9,6 +9,7 @@
 
 #include "command_registry.hpp"
 #include "tocd/core/error.hpp"
+#include "tocd/sim/parallel/team.hpp"
 #include "tocd/sim/study/predictor.hpp"
 #include "tocd/sim/study/study.hpp"
 
@@ -41,7 +42,7 @@ void run_predict(PredictOptions o) {
     std::string label;
     st::apply_optics(o.compressed, r, label);
   }
-  st::Predictor predictor(1);
+  st::Predictor predictor(1, &tocd::sim::parallel::world());  // under mpirun the ranks share the photons
   const st::Prediction p = predictor.predict(r);
   if (o.json) {
     nlohmann::json j = {{"T", p.T},

@@ -10,7 +10,9 @@
 #include <fmt/format.h>
 
 #include "command_registry.hpp"
+#include "tocd/core/atomic_file.hpp"
 #include "tocd/core/error.hpp"
+#include "tocd/sim/parallel/team.hpp"
 
 namespace {
 
@@ -25,24 +27,20 @@ struct StudyOptions {
   bool no_baseline = false;
 };
 
-void write_file(const std::string& path, const std::string& text) {
-  std::ofstream out(path);
-  if (!out) throw tocd::Error(fmt::format("cannot write {}", path));
-  out << text;
-  if (!out) throw tocd::Error(fmt::format("cannot write {}", path));
-}
-
 void run(const StudyOptions& o, const std::vector<st::StudyCase>& cases, int ref_a, int ref_b) {
   std::cout << fmt::format("{} simulations, {} photons each, mesh '{}', seed {}\n", cases.size(),
                            o.settings.photons, o.settings.mesh_preset, o.settings.seed);
   std::cout << st::table_header(ref_a, ref_b) << std::flush;
-  st::Predictor predictor(1);
-  const st::StudyTable table =
-      st::run_study(predictor, cases, o.settings, ref_a, ref_b,
-                    [](const st::StudyRow& r) { std::cout << st::format_row(r) << std::flush; });
+  // Under mpirun the ranks share the simulations; rank 0 alone prints and writes files.
+  auto& team = tocd::sim::parallel::world();
+  st::Predictor predictor(1, &team);
+  const st::StudyTable table = st::run_study(
+      predictor, cases, o.settings, ref_a, ref_b,
+      [](const st::StudyRow& r) { std::cout << st::format_row(r) << std::flush; }, team);
+  if (team.rank() != 0) return;
   std::cout << fmt::format("total {:.1f} s\n", table.seconds);
-  if (!o.json_path.empty()) write_file(o.json_path, st::to_json(table).dump(2) + "\n");
-  if (!o.csv_path.empty()) write_file(o.csv_path, st::to_csv(table));
+  if (!o.json_path.empty()) tocd::write_file_atomically(o.json_path, st::to_json(table).dump(2) + "\n");
+  if (!o.csv_path.empty()) tocd::write_file_atomically(o.csv_path, st::to_csv(table));
 }
 
 void add_common(CLI::App* cmd, StudyOptions& o) {
@@ -57,6 +55,10 @@ void add_common(CLI::App* cmd, StudyOptions& o) {
   cmd->add_option("--seed", o.settings.seed, "random seed (the same for every simulation)")
       ->capture_default_str();
   cmd->add_option("--batches", o.settings.batches, "batches for standard errors")->capture_default_str();
+  cmd->add_option(
+         "--split-photons", o.settings.split_photons,
+         "under MPI: simulations with at least this many photons share their batches among the ranks")
+      ->capture_default_str();
   cmd->add_option("--json", o.json_path, "write every number of the table (and each run's config) as JSON");
   cmd->add_option("--csv", o.csv_path, "write the table as CSV");
   cmd->add_option("--fluence-dir", o.settings.fluence_dir,

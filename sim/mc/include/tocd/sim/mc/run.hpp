@@ -9,10 +9,12 @@
 #include "tocd/sim/mc/optics.hpp"
 #include "tocd/sim/mc/prepared_mesh.hpp"
 #include "tocd/sim/mc/source.hpp"
+#include "tocd/sim/parallel/team.hpp"
 
 namespace tocd::sim::mc {
 
-/// Settings of one run. Results depend on (photons, seed, batches) only, never on threads.
+/// Settings of one run. Results depend on (photons, seed, batches) only, never on the number
+/// of threads or MPI ranks.
 struct RunSettings {
   std::uint64_t photons = 100000;
   std::uint64_t seed = 1;
@@ -27,8 +29,13 @@ struct RunSettings {
   bool tally_per_tet = true;         ///< per-tet absorbed weight and fluence (with errors)
   /// Checked between photons by every thread; set it to stop early (result.cancelled).
   const std::atomic<bool>* cancel = nullptr;
-  /// Called from the master thread now and then with (photons done, photons asked).
+  /// Called from the master thread now and then with (photons done, photons asked); under
+  /// MPI each member reports its own share scaled to the whole run.
   std::function<void(std::uint64_t, std::uint64_t)> progress;
+  /// The processes sharing the run (null: this process alone). Each member runs a contiguous
+  /// block of the batches with `threads` threads; every member gets the whole result. A
+  /// collective: every member calls run() with the same settings.
+  parallel::Team* team = nullptr;
 };
 
 /// A mean per launched photon and its standard error from the spread of batch means.
@@ -41,7 +48,8 @@ struct Estimate {
 struct Result {
   std::uint64_t photons = 0;  ///< launched (fewer than asked when cancelled)
   std::uint64_t seed = 0;
-  int threads = 0;
+  int threads = 0;  ///< per process
+  int ranks = 1;    ///< processes that shared the run
   int batches = 0;
   bool cancelled = false;
 
@@ -71,6 +79,24 @@ struct Result {
   double photons_per_second = 0.0;
   double events_per_second = 0.0;
 };
+
+/// Exact sums over some batches of a run (fixed-point words, see docs/mc.md "Reduction"):
+/// the tallies of different batches add element-wise, in any order, to the same total.
+struct Tallies {
+  std::vector<std::int64_t> words;
+  int threads = 0;  ///< threads that ran them (not part of the sums)
+};
+
+/// Runs batches [first_batch, last_batch) of the run `settings` describes (settings.team is
+/// not used) and returns their exact tallies. Throws like run().
+Tallies run_batches(const PreparedMesh& mesh, const Optics& optics, const Source& source,
+                    const RunSettings& settings, int first_batch, int last_batch);
+
+/// The result from the summed tallies of a run's batches (all of them, or fewer when a run
+/// was cancelled). Timing fields are left zero. Throws tocd::Error when the tallies do not
+/// belong to this mesh and these settings.
+Result finish(const PreparedMesh& mesh, const Optics& optics, const RunSettings& settings,
+              const Tallies& tallies);
 
 /// Runs the Monte Carlo. Throws OpticsError when a region of the mesh has no optics,
 /// SourceError when the source cannot enter the mesh, tocd::ConfigError on bad settings.

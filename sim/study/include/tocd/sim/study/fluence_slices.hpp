@@ -64,6 +64,9 @@ struct FluenceFiles {
   std::filesystem::path vtu, horizontal_csv, vertical_csv;
 };
 
+/// The names write_fluence_files gives the files of DIR and STEM.
+FluenceFiles fluence_file_names(const std::filesystem::path& dir, const std::string& stem);
+
 /// Writes DIR/STEM.vtu (per-tet fluence) and DIR/STEM_horizontal.csv, DIR/STEM_vertical.csv
 /// (creating DIR). Throws tocd::Error when a file cannot be written.
 FluenceFiles write_fluence_files(const mc::PreparedMesh& mesh, const mc::Result& result, double tip_z_mm,

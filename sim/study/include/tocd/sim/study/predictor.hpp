@@ -15,6 +15,8 @@
 
 #include "tocd/sim/material/ogden.hpp"
 #include "tocd/sim/mc/optics.hpp"
+#include "tocd/sim/mc/run.hpp"
+#include "tocd/sim/parallel/team.hpp"
 #include "tocd/sim/study/study_optics.hpp"
 
 namespace tocd::sim::study {
@@ -82,15 +84,27 @@ void validate(const PredictionRequest& request);
 /// any thread at once; concurrent requests for the same FE solution or mesh share one
 /// computation. submit() queues the request on the predictor's own worker threads and
 /// returns at once. The destructor finishes the queued requests.
+///
+/// With a `team` of several processes (MPI), predict() is a collective: every member calls
+/// it with the same request, builds the step's mesh itself (the FE and TetGen are
+/// deterministic), runs its share of the photons, and gets the same Prediction; only member
+/// 0 writes fluence files.
 class Predictor {
  public:
-  explicit Predictor(int worker_threads = 1);
+  explicit Predictor(int worker_threads = 1, parallel::Team* team = nullptr);
   ~Predictor();
   Predictor(const Predictor&) = delete;
   Predictor& operator=(const Predictor&) = delete;
 
   Prediction predict(const PredictionRequest& r);              // blocking
   std::future<Prediction> submit(const PredictionRequest& r);  // runs in the background
+
+  /// Pieces of predict() for work shared out by batches (the distributed study): the exact
+  /// Monte Carlo tallies of batches [first, last) of the request (this process alone), and
+  /// the prediction from the tallies of all its batches summed (Tallies add element-wise).
+  /// `mc_seconds` is reported as the Monte Carlo time. Writes fluence files when asked.
+  mc::Tallies run_batches(const PredictionRequest& r, int first_batch, int last_batch);
+  Prediction assemble(const PredictionRequest& r, const mc::Tallies& summed, double mc_seconds);
 
   struct CacheCounts {
     std::size_t fe_hits = 0, fe_misses = 0, mesh_hits = 0, mesh_misses = 0;
@@ -99,7 +113,11 @@ class Predictor {
 
  private:
   struct Impl;
+  struct Staged;
+  Staged stage(const PredictionRequest& r);
+  void complete(const PredictionRequest& r, Staged& st, const mc::Result& res);
   std::unique_ptr<Impl> impl_;
+  parallel::Team* team_ = nullptr;  ///< null: this process alone
   std::mutex queue_mutex_;
   std::condition_variable queue_cv_;
   std::deque<std::packaged_task<Prediction()>> queue_;

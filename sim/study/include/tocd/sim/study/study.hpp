@@ -26,6 +26,9 @@ struct StudySettings {
   int batches = 20;
   double max_edge_mm = 0;
   std::string fluence_dir;  ///< per-simulation fluence files when not empty
+  /// Across MPI ranks: a simulation with at least this many photons has its batches shared
+  /// among the ranks; smaller ones run whole on one rank. Results are the same either way.
+  std::uint64_t split_photons = 10'000'000;
 };
 
 /// The published study (model note): 0 = glass-only baseline; 1..3 native skin at
@@ -61,10 +64,23 @@ struct StudyTable {
   double seconds = 0;
 };
 
+/// A row for case `c` before it runs: its request with the fluence file stem, its strain.
+StudyRow start_row(const StudyCase& c);
+
 /// Runs the cases in order on `predictor` (FE and meshes shared through its caches) and
 /// fills the relative columns. `progress` is called after each row.
 StudyTable run_study(Predictor& predictor, const std::vector<StudyCase>& cases, const StudySettings& settings,
                      int ref_a = 0, int ref_b = 3, const std::function<void(const StudyRow&)>& progress = {});
+
+/// run_study across the members of `team`, a collective: every member calls it with the same
+/// cases. Member 0 hands out the work as members ask for it (whole simulations, or blocks of
+/// batches of the large ones, see StudySettings::split_photons), sums the exact Monte Carlo
+/// tallies and assembles the rows; its table equals run_study's on one process in every
+/// number but the timings. Other members return an empty table. With a team of one this
+/// is run_study.
+StudyTable run_study(Predictor& predictor, const std::vector<StudyCase>& cases, const StudySettings& settings,
+                     int ref_a, int ref_b, const std::function<void(const StudyRow&)>& progress,
+                     parallel::Team& team);
 
 /// Recomputes the relative columns from the rows (used by run_study; public for tests).
 void fill_relatives(StudyTable& table);
