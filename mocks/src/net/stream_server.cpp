@@ -62,10 +62,7 @@ struct StreamServer::Impl {
 
   void drop(Client& c, const char* why) {
     if (c.dead) return;
-    if (why) {
-      ++s.dropped_;
-      logger("mocks")->debug("{}: closing a client: {}", s.name_, why);
-    }
+    if (why) logger("mocks")->debug("{}: closing a client: {}", s.name_, why);
     ::close(c.fd);
     c.dead = true;
   }
@@ -217,9 +214,12 @@ StreamServer::StreamServer(std::string name, Listener listener, ServerLimits lim
       port_(listener.port),
       limits_(limits),
       new_session_(std::move(new_session)) {
-  if (limits_.max_clients < 1) {
+  if (limits_.max_clients < 1 || limits_.max_request_bytes < 1 || limits_.max_output_bytes < 1 ||
+      limits_.request_deadline.count() <= 0 || limits_.accept_backoff.count() <= 0) {
     ::close(listen_fd_);
-    throw ConfigError(name_ + ": the connection limit must be at least 1");
+    throw ConfigError(name_ +
+                      ": server limits must be positive (connections, request and output bytes, deadline, "
+                      "accept back-off)");
   }
   wake_fd_ = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   if (wake_fd_ < 0) {

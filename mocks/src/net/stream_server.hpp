@@ -53,7 +53,6 @@ class StreamServer {
   /// Closes every client connection (the listener stays); thread-safe.
   void drop_clients();
   long connections_accepted() const { return accepted_; }
-  long connections_dropped() const { return dropped_; }  ///< closed by the server for a limit
 
  private:
   struct Impl;
@@ -64,7 +63,7 @@ class StreamServer {
   ServerLimits limits_;
   SessionFactory new_session_;
   std::atomic<bool> stopping_{false}, drop_requested_{false};
-  std::atomic<long> accepted_{0}, dropped_{0};
+  std::atomic<long> accepted_{0};
   std::thread thread_;
 };
 

@@ -11,6 +11,7 @@
 #include <sys/resource.h>
 
 #include "raw_client.hpp"
+#include "tocd/core/error.hpp"
 #include "tocd/devices/power_meter_drivers.hpp"
 #include "tocd/devices/tester_driver.hpp"
 #include "tocd/mocks/power_meter_twin.hpp"
@@ -245,4 +246,14 @@ TEST(ServerLimits, AcceptBacksOffWhenDescriptorsRunOut) {
   pollfd p{probe_fd, POLLIN, 0};
   EXPECT_EQ(::poll(&p, 1, 2000), 1) << "the queued connection is never served";
   ::close(probe_fd);
+}
+
+TEST(ServerLimits, LimitsThatCouldNotServeAnyoneAreRefused) {
+  auto no_clients = quick_limits();
+  no_clients.max_clients = 0;
+  EXPECT_THROW(tester_twin(no_clients), tocd::ConfigError);
+  auto no_deadline = quick_limits();
+  no_deadline.request_deadline = 0ms;
+  EXPECT_THROW(meter_twin(no_deadline), tocd::ConfigError);
+  EXPECT_NO_THROW(tester_twin(quick_limits()));
 }
