@@ -101,8 +101,10 @@ struct StreamServer::Impl {
         if (s.drop_requested_.exchange(false))
           for (auto& c : clients) drop(c, nullptr);
       }
-      const std::size_t polled = clients.size();  // accepted below are not in fds yet
-      for (std::size_t i = 0; i < polled; ++i) {
+      // Clients accepted below are not in `fds` yet. Checking stopping_ per client: a flood of
+      // requests on many connections cannot delay stop() by more than one client's share.
+      const std::size_t polled = clients.size();
+      for (std::size_t i = 0; i < polled && !s.stopping_; ++i) {
         if (clients[i].dead) continue;
         if (fds[i + 2].revents & (POLLIN | POLLHUP | POLLERR)) read_from(clients[i]);
         if (!clients[i].dead) write_to(clients[i]);

@@ -193,10 +193,21 @@ TEST_F(SimlabUnderLoad, ProbeSucceedsAndSigtermStopsWithinOneSecond) {
   ASSERT_EQ(established(idle), kIdleConnections);
 
   std::atomic<bool> done{false};
-  std::atomic<int> slow_dropped{0};
+  std::atomic<int> slow_dropped{0}, deaf_dropped{0};
+  // Ends the load however the test leaves (a failed assertion or an exception included).
+  struct Load {
+    std::atomic<bool>& done;
+    std::vector<std::thread> threads;
+    void stop() {
+      done = true;
+      for (auto& t : threads)
+        if (t.joinable()) t.join();
+    }
+    ~Load() { stop(); }
+  } load{done, {}};
   // Slow-byte clients: Modbus read requests to the tester, an endless line to the meter.
   const std::string modbus_read("\0\1\0\0\0\6\1\4\0\0\0\6", 12);
-  std::thread slow([&] {
+  load.threads.emplace_back([&] {
     std::vector<SlowClient> clients;
     for (int i = 0; i < kSlowClients; ++i)
       clients.push_back(i % 2 ? SlowClient{meter_port, "MEAS?;MEAS?;MEAS?"}
@@ -211,8 +222,7 @@ TEST_F(SimlabUnderLoad, ProbeSucceedsAndSigtermStopsWithinOneSecond) {
     }
   });
   // A meter client that sends queries and never reads an answer (reconnecting when dropped).
-  std::atomic<int> deaf_dropped{0};
-  std::thread deaf([&] {
+  load.threads.emplace_back([&] {
     std::string burst;
     for (int i = 0; i < 100; ++i) burst += "*IDN?\n";
     int fd = -1;
@@ -268,9 +278,7 @@ TEST_F(SimlabUnderLoad, ProbeSucceedsAndSigtermStopsWithinOneSecond) {
   const auto rc = wait_exit(simlab_, 5s);
   const double stop_ms = ms_since(t0);
   simlab_ = -1;
-  done = true;
-  slow.join();
-  deaf.join();
+  load.stop();
   for (int fd : idle) ::close(fd);
 
   std::printf(

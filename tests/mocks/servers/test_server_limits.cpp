@@ -74,6 +74,9 @@ tocd::devices::PowerMeterOptions meter_link() {
   return o;
 }
 
+// The client threads below are std::jthread: they end on their own within seconds, and a
+// failed assertion that leaves the test early joins them instead of terminating the process.
+
 /// Sends `bytes` one every 80 ms (over 1 s for a Modbus read), until done or the server closes.
 void trickle(RawClient& c, const std::string& bytes) {
   for (char b : bytes) {
@@ -90,7 +93,7 @@ TEST(ServerLimits, TricklingModbusClientStallsNobodyAndIsDropped) {
   auto twin = tester_twin(quick_limits());
   RawClient slow(twin->port());
   const auto read_request = modbus_adu({0x04, 0, 0, 0, 6});
-  std::thread trickler([&] { trickle(slow, read_request); });
+  std::jthread trickler([&] { trickle(slow, read_request); });
   std::this_thread::sleep_for(100ms);  // the trickle has begun
   auto tester = tocd::devices::connect_modbus_tcp_tester(twin->address(), tester_link());
   double worst_ms = 0;
@@ -108,7 +111,7 @@ TEST(ServerLimits, TricklingModbusClientStallsNobodyAndIsDropped) {
 TEST(ServerLimits, TricklingScpiClientStallsNobodyAndIsDropped) {
   auto twin = meter_twin(quick_limits());
   RawClient slow(twin->tcp_address().port);
-  std::thread trickler([&] { trickle(slow, "*IDN?;*IDN?\n"); });
+  std::jthread trickler([&] { trickle(slow, "*IDN?;*IDN?\n"); });
   std::this_thread::sleep_for(100ms);
   auto meter = tocd::devices::open_scpi_tcp_power_meter(twin->tcp_address(), meter_link());
   for (int i = 0; i < 12; ++i) EXPECT_NO_THROW(meter->measure()) << "reading " << i;
@@ -125,7 +128,7 @@ TEST(ServerLimits, ScpiClientThatNeverReadsIsDroppedAndStallsNobody) {
   RawClient deaf(twin->tcp_address().port, 4096);
   std::atomic<bool> dropped{false};
   std::atomic<long> sent{0};
-  std::thread flood([&] {
+  std::jthread flood([&] {
     std::string burst;
     for (int i = 0; i < 200; ++i) burst += "*IDN?\n";
     const auto until = Clock::now() + 10s;
