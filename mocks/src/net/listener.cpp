@@ -17,7 +17,7 @@ namespace tocd::mocks::net {
 namespace {
 // A burst of connections (a load test, a restarted client pool) waits in the kernel's queue
 // rather than being refused before the server had a chance to look at it.
-constexpr int listen_backlog = 128;
+constexpr int listen_backlog = 1024;  // the kernel caps it at net.core.somaxconn
 }  // namespace
 
 Listener listen_tcp(const std::string& host, int port, const std::string& what) {

@@ -184,7 +184,8 @@ TEST_F(SimlabUnderLoad, ProbeSucceedsAndSigtermStopsWithinOneSecond) {
   const int tester_port = lab_.tester->address.port;
   const int meter_port = lab_.power_meter->port;
 
-  // In bursts of 50, so that the kernel's accept queue (128) does not overflow into SYN retries.
+  // In bursts of 50 with short pauses, so that the kernel's accept queue never overflows into
+  // SYN retries (which would only slow the test down).
   std::vector<int> idle;
   for (int i = 0; i < kIdleConnections; ++i) {
     idle.push_back(connect_to(i % 2 ? meter_port : tester_port));

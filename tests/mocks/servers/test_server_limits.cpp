@@ -260,3 +260,36 @@ TEST(ServerLimits, LimitsThatCouldNotServeAnyoneAreRefused) {
   EXPECT_THROW(meter_twin(no_deadline), tocd::ConfigError);
   EXPECT_NO_THROW(tester_twin(quick_limits()));
 }
+
+// 1,100 connections used to abort the whole process: the server select()ed on descriptors past
+// FD_SETSIZE (1,024). With poll() and the connection limit the descriptor numbers do not matter,
+// and a new client still gets an answer.
+TEST(ServerLimits, ElevenHundredConnectionsToOneServer) {
+  constexpr int kConnections = 1100;
+  rlimit r{};
+  ::getrlimit(RLIMIT_NOFILE, &r);
+  const rlim_t needed = 2 * kConnections;  // both ends live in this process
+  if (r.rlim_max != RLIM_INFINITY && r.rlim_max < needed)
+    GTEST_SKIP() << "needs " << needed << " file descriptors; the hard limit is " << r.rlim_max;
+  const rlimit saved = r;
+  r.rlim_cur = std::max(r.rlim_cur, needed);
+  ASSERT_EQ(::setrlimit(RLIMIT_NOFILE, &r), 0);
+  {
+    auto twin = tester_twin(quick_limits());
+    std::vector<std::unique_ptr<RawClient>> idle;
+    for (int i = 0; i < kConnections; ++i) {
+      idle.push_back(std::make_unique<RawClient>(twin->port()));
+      ASSERT_TRUE(idle.back()->connected()) << "connection " << i;
+    }
+    // A raw client: libmodbus' own client select()s too, on descriptors this process has past 1,024.
+    RawClient latest(twin->port());
+    EXPECT_TRUE(modbus_call(latest, {0x04, 0, 0, 0, 6}).has_value());
+    const auto until = Clock::now() + 5s;
+    while (twin->connections_accepted() < kConnections + 1 && Clock::now() < until)
+      std::this_thread::sleep_for(10ms);
+    EXPECT_EQ(twin->connections_accepted(), kConnections + 1);
+    EXPECT_TRUE(idle.front()->closed_by_peer(1s)) << "the oldest made room for newer ones";
+    EXPECT_FALSE(idle.back()->closed_by_peer(50ms));
+  }
+  ::setrlimit(RLIMIT_NOFILE, &saved);
+}
