@@ -41,12 +41,21 @@ class RegisterDevice {
   virtual void after_write(modbus_mapping_t& map, int address, int count) = 0;
 };
 
-/// Serves one received request (`req`, `length` bytes, as modbus_receive gave it) on the
-/// context's current socket, applying the next injected fault. Returns false when the
-/// connection must be closed (drop_connection).
-bool serve_request(modbus_t* ctx, int fd, bool tcp, const std::uint8_t* req, int length,
-                   modbus_mapping_t& map, RegisterDevice& device, std::mutex& state_mutex, FaultQueue& faults,
-                   std::mt19937_64& rng);
+/// What a server does with one request.
+struct ModbusAnswer {
+  enum class Kind { send, silent, close };
+  Kind kind = Kind::silent;
+  std::vector<std::uint8_t> bytes;  ///< the whole ADU to send (Kind::send)
+  double delay_s = 0.0;             ///< real seconds before it leaves (an injected delay)
+};
+
+/// Serves one complete request ADU as received: for TCP the MBAP header (7 bytes) and the PDU,
+/// its length already checked by the caller; for RTU the slave id, the PDU and the CRC, already
+/// checked by libmodbus. Every register write passes RegisterDevice::check_write before it is
+/// stored, whatever function code carries it; the next injected fault applies.
+ModbusAnswer serve_request(bool tcp, const std::uint8_t* adu, int length, modbus_mapping_t& map,
+                           RegisterDevice& device, std::mutex& state_mutex, FaultQueue& faults,
+                           std::mt19937_64& rng);
 
 /// CRC-16/MODBUS of a frame (transmitted low byte first).
 std::uint16_t modbus_crc16(const std::uint8_t* data, std::size_t n);

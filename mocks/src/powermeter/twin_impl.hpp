@@ -1,11 +1,11 @@
 #pragma once
 
-#include <atomic>
 #include <chrono>
+#include <memory>
 #include <mutex>
 #include <string>
-#include <thread>
 
+#include "net/stream_server.hpp"
 #include "powermeter/scpi_meter_engine.hpp"
 #include "tocd/mocks/power_meter_twin.hpp"
 
@@ -34,7 +34,6 @@ class PowerMeterTwin::Impl {
   // TCP server (scpi_tcp_server.cpp)
   int start_tcp(const std::string& host, int port);
   void stop_tcp();
-  void serve_loop();
 
   mutable std::mutex mutex;
   PowerMeterTwinOptions options;
@@ -49,9 +48,10 @@ class PowerMeterTwin::Impl {
 
   std::string tcp_host;
   int tcp_port = 0;
-  int listen_fd = -1;
-  std::atomic<bool> stopping{false};
-  std::thread server;
+  std::unique_ptr<net::StreamServer> server;  ///< guarded by `mutex`
 };
+
+/// The SCPI line protocol of one TCP connection to `meter` (scpi_tcp_server.cpp).
+std::unique_ptr<net::Session> make_scpi_line_session(PowerMeterTwin::Impl& meter);
 
 }  // namespace tocd::mocks

@@ -1,24 +1,16 @@
-// The simulated mechanical tester: Modbus TCP server (libmodbus server API) on its own thread.
+// The simulated mechanical tester: a Modbus TCP server (net::StreamServer) on its own thread.
 #include "tocd/mocks/tester_twin.hpp"
 
-#include <algorithm>
-#include <atomic>
-#include <cerrno>
-#include <cstring>
-#include <thread>
+#include <cmath>
 #include <vector>
 
-#include <arpa/inet.h>
 #include <fmt/format.h>
 #include <modbus/modbus.h>
-#include <netinet/in.h>
-#include <netinet/tcp.h>
-#include <sys/select.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
 #include "modbus_server/identity.hpp"
 #include "modbus_server/register_server.hpp"
+#include "modbus_server/tcp_session.hpp"
+#include "net/stream_server.hpp"
 #include "tester/tester_physics.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/core/log.hpp"
@@ -79,7 +71,7 @@ class TesterRegisters final : public RegisterDevice {
   void after_write(modbus_mapping_t& map, int address, int count) override {
     std::uint16_t* hr = map.tab_registers;
     const WriteRange w{address, count};
-    if (w.touched(m::hr_max_travel) || w.touched(m::hr_max_load + 1))
+    if (w.touched_float(m::hr_max_travel) || w.touched_float(m::hr_max_load))
       physics_.set_limits(get_float(hr, m::hr_max_travel), get_float(hr, m::hr_max_load));
     if (!w.touched(m::hr_command)) return;
     switch (hr[m::hr_command]) {
@@ -119,16 +111,9 @@ struct TesterTwin::Impl {
   TesterRegisters registers;
   mutable std::mutex state_mutex;
   FaultQueue faults;
-  modbus_t* ctx = nullptr;
   modbus_mapping_t* map = nullptr;
-  int listen_fd = -1;
-  int port = 0;
-  std::mutex clients_mutex;
-  std::vector<int> clients;
-  std::atomic<int> accepted{0};
-  std::atomic<bool> stop{false};
-  std::thread thread;
   std::mt19937_64 rng;
+  std::unique_ptr<net::StreamServer> server;  // last: stopped before the state it serves goes
 
   static TesterPhysics::Params physics_params(const TesterTwinOptions& o) {
     TesterPhysics::Params p;
@@ -150,99 +135,43 @@ struct TesterTwin::Impl {
         physics(physics_params(opt)),
         registers(physics, *clock),
         rng(opt.seed ^ 0x9E3779B97F4A7C15ull) {
-    ctx = modbus_new_tcp(opt.host.c_str(), opt.port);
     map = modbus_mapping_new(0, 0, m::holding_count, m::input_count);
-    if (!ctx || !map) throw Error("mechanical tester twin: cannot allocate the Modbus server");
-    modbus_set_slave(ctx, opt.slave_id);
-    modbus_set_byte_timeout(ctx, 0, 100000);
+    if (!map) throw Error("mechanical tester twin: cannot allocate the registers");
     write_identity_block(map->tab_input_registers, m::map_version, "tocdlab", "simulated load frame LF-1",
                          fmt::format("SIM{:05d}", static_cast<int>(opt.seed % 100000)), "1.0.0");
     put_float(map->tab_registers, m::hr_velocity, 1.0);
     put_float(map->tab_registers, m::hr_max_travel, opt.max_travel_mm);
     put_float(map->tab_registers, m::hr_max_load, opt.max_load_N);
     registers.refresh(*map);
-    listen_fd = modbus_tcp_listen(ctx, 8);
-    if (listen_fd < 0)
-      throw Error(fmt::format("mechanical tester twin: cannot listen on {}:{}: {}", opt.host, opt.port,
-                              modbus_strerror(errno)));
-    sockaddr_in addr{};
-    socklen_t len = sizeof addr;
-    getsockname(listen_fd, reinterpret_cast<sockaddr*>(&addr), &len);
-    port = ntohs(addr.sin_port);
-    thread = std::thread([this] { serve(); });
+    try {
+      const RegisterServerState state{*map, registers, state_mutex, faults, rng};
+      server = std::make_unique<net::StreamServer>(
+          "mechanical tester twin", net::listen_tcp(opt.host, opt.port, "mechanical tester twin"), opt.limits,
+          [state] { return make_modbus_tcp_session(state); });
+    } catch (...) {
+      modbus_mapping_free(map);
+      throw;
+    }
   }
 
   ~Impl() {
-    stop = true;
-    if (thread.joinable()) thread.join();
-    for (int fd : clients) ::close(fd);
-    if (listen_fd >= 0) ::close(listen_fd);
+    server.reset();
     modbus_mapping_free(map);
-    modbus_free(ctx);
-  }
-
-  void close_client(int fd) {
-    std::lock_guard lock(clients_mutex);
-    clients.erase(std::remove(clients.begin(), clients.end(), fd), clients.end());
-    ::close(fd);
-  }
-
-  void serve() {
-    std::vector<std::uint8_t> req(MODBUS_TCP_MAX_ADU_LENGTH);
-    while (!stop) {
-      fd_set rd;
-      FD_ZERO(&rd);
-      FD_SET(listen_fd, &rd);
-      int top = listen_fd;
-      std::vector<int> snapshot;
-      {
-        std::lock_guard lock(clients_mutex);
-        snapshot = clients;
-      }
-      for (int fd : snapshot) {
-        FD_SET(fd, &rd);
-        top = std::max(top, fd);
-      }
-      timeval tv{0, 10000};  // wake up now and then to notice stop
-      if (select(top + 1, &rd, nullptr, nullptr, &tv) <= 0) continue;
-      if (FD_ISSET(listen_fd, &rd)) {
-        const int fd = ::accept(listen_fd, nullptr, nullptr);
-        if (fd >= 0) {
-          const int one = 1;
-          setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
-          std::lock_guard lock(clients_mutex);
-          clients.push_back(fd);
-          ++accepted;
-        }
-      }
-      for (int fd : snapshot) {
-        if (!FD_ISSET(fd, &rd)) continue;
-        modbus_set_socket(ctx, fd);
-        const int n = modbus_receive(ctx, req.data());
-        if (n < 0) {  // closed by the client, or a request we cannot frame
-          close_client(fd);
-          continue;
-        }
-        if (n == 0) continue;
-        if (!serve_request(ctx, fd, true, req.data(), n, *map, registers, state_mutex, faults, rng))
-          close_client(fd);
-      }
-    }
   }
 };
 
 TesterTwin::TesterTwin(TesterTwinOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {
-  tocd::logger("mocks")->debug("mechanical tester twin on {}:{}", impl_->opt.host, impl_->port);
+  tocd::logger("mocks")->debug("mechanical tester twin on {}:{}", impl_->opt.host, impl_->server->port());
 }
 
 TesterTwin::~TesterTwin() = default;
 
 int TesterTwin::port() const {
-  return impl_->port;
+  return impl_->server->port();
 }
 
 devices::ModbusTcpAddress TesterTwin::address() const {
-  return {impl_->opt.host, impl_->port, impl_->opt.slave_id};
+  return {impl_->opt.host, impl_->server->port(), impl_->opt.slave_id};
 }
 
 double TesterTwin::position_mm() const {
@@ -262,9 +191,7 @@ void TesterTwin::inject(const ModbusFault& fault) {
 }
 
 void TesterTwin::drop_connections() {
-  // shutdown() wakes the server's select with EOF; the server then closes the socket itself.
-  std::lock_guard lock(impl_->clients_mutex);
-  for (int fd : impl_->clients) ::shutdown(fd, SHUT_RDWR);
+  impl_->server->drop_clients();
 }
 
 void TesterTwin::trip_load_limit() {
@@ -278,7 +205,7 @@ void TesterTwin::set_drive_fault(std::uint16_t code) {
 }
 
 int TesterTwin::connections_accepted() const {
-  return impl_->accepted;
+  return static_cast<int>(impl_->server->connections_accepted());
 }
 int TesterTwin::faults_pending() const {
   return impl_->faults.pending();

@@ -3,6 +3,7 @@
 
 #include <atomic>
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <thread>
 #include <vector>
@@ -121,6 +122,7 @@ struct VacuumTwin::Impl {
     if (openpty(&master_fd, &slave_fd, name, nullptr, nullptr) != 0)
       throw Error(fmt::format("vacuum twin: cannot open a pseudo-terminal: {}", std::strerror(errno)));
     path = name;
+    ::fcntl(master_fd, F_SETFL, ::fcntl(master_fd, F_GETFL) | O_NONBLOCK);
     termios t{};
     tcgetattr(slave_fd, &t);
     cfmakeraw(&t);  // bytes pass untouched, as on a real serial line
@@ -172,8 +174,17 @@ struct VacuumTwin::Impl {
         make_context();
         continue;
       }
-      serve_request(ctx, master_fd, false, req.data(), n, *map, registers, state_mutex, faults, rng);
+      answer(serve_request(false, req.data(), n, *map, registers, state_mutex, faults, rng));
     }
+  }
+
+  /// Puts an answer on the line. A serial line never waits for its listener: bytes the
+  /// client's side has no room for are lost, and the server goes on (the master is
+  /// non-blocking), so a client that stops reading cannot stall the twin or its shutdown.
+  void answer(const ModbusAnswer& a) {
+    if (a.kind != ModbusAnswer::Kind::send) return;  // a dropped link is silence on a serial line
+    if (a.delay_s > 0) std::this_thread::sleep_for(std::chrono::duration<double>(a.delay_s));
+    (void)!::write(master_fd, a.bytes.data(), a.bytes.size());
   }
 };
 

@@ -1,12 +1,16 @@
-// `tocdlab simlab`: serves the simulated instruments on their real transports until SIGINT
-// (docs/instruments/simulated-lab.md).
+// `tocdlab simlab`: serves the simulated instruments on their real transports until SIGINT or
+// SIGTERM (docs/instruments/simulated-lab.md).
+#include <cerrno>
 #include <csignal>
+#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <memory>
-#include <thread>
 
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <poll.h>
+#include <unistd.h>
 
 #include "command_registry.hpp"
 #include "tocd/core/error.hpp"
@@ -15,9 +19,34 @@
 
 namespace {
 
-volatile std::sig_atomic_t g_stop = 0;
+// Self-pipe: the handler only writes a byte; the main thread sleeps in poll() on the other
+// end, so SIGINT/SIGTERM end the wait at once, and the servers then stop promptly whatever
+// their clients do (their threads never block on a client).
+int g_signal_pipe[2] = {-1, -1};
 extern "C" void on_signal(int) {
-  g_stop = 1;
+  const int saved = errno;
+  const char byte = 1;
+  (void)!::write(g_signal_pipe[1], &byte, 1);
+  errno = saved;
+}
+
+/// Installs the handlers; the read end of the pipe becomes readable on the first signal.
+int watch_stop_signals() {
+  if (::pipe2(g_signal_pipe, O_CLOEXEC | O_NONBLOCK) != 0)
+    throw tocd::Error(std::string("simlab: cannot create the signal pipe: ") + std::strerror(errno));
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESTART;
+  ::sigaction(SIGINT, &sa, nullptr);
+  ::sigaction(SIGTERM, &sa, nullptr);
+  return g_signal_pipe[0];
+}
+
+void wait_for(int fd) {
+  pollfd p{fd, POLLIN, 0};
+  while (::poll(&p, 1, -1) < 0 && errno == EINTR) {
+  }
 }
 
 struct SimlabOptions {
@@ -46,6 +75,8 @@ void run_simlab(const SimlabOptions& o) {
     opt.with_power_meter = opt.with_power_meter && want.power_meter.has_value();
     opt.with_vacuum = opt.with_vacuum && want.vacuum.has_value();
   }
+  // Before the servers start, so that a signal during start-up still stops the process.
+  const int stop_signal = watch_stop_signals();
   tocd::mocks::SimulatedLab lab(opt);
   const tocd::devices::LabConfig cfg = lab.config();
   std::cout << fmt::format("simulated lab (clock factor {}, seed {}):\n", o.clock_factor, o.seed);
@@ -65,10 +96,8 @@ void run_simlab(const SimlabOptions& o) {
   } else {
     std::cout << "\nlab config:\n" << tocd::devices::to_toml(cfg);
   }
-  std::cout << "serving until interrupted (Ctrl-C)" << std::endl;
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
-  while (!g_stop) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  std::cout << "serving until interrupted (Ctrl-C or SIGTERM)" << std::endl;
+  wait_for(stop_signal);
   std::cout << "stopping" << std::endl;
 }
 

@@ -9,6 +9,7 @@
 
 #include "tocd/devices/power_meter_drivers.hpp"
 #include "tocd/devices/usb_endpoint.hpp"
+#include "tocd/mocks/server_limits.hpp"
 #include "tocd/mocks/sim_clock.hpp"
 
 namespace tocd::mocks {
@@ -33,6 +34,9 @@ struct PowerMeterTwinOptions {
   std::string model = "PM100USB", serial = "P0012345", firmware = "1.6.0";
   std::uint16_t usb_product_id = 0x8072;
   std::string sensor = "S121C,19012345,02-Feb-2024,1,18,289";
+  /// What the SCPI TCP server grants each client; max_request_bytes caps the line length
+  /// (docs/security.md).
+  ServerLimits limits;
 };
 
 /// Counters of what the twin has seen (thread-safe snapshot).

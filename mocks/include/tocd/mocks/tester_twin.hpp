@@ -6,6 +6,7 @@
 
 #include "tocd/devices/modbus_options.hpp"
 #include "tocd/mocks/modbus_faults.hpp"
+#include "tocd/mocks/server_limits.hpp"
 #include "tocd/mocks/tissue.hpp"
 
 namespace tocd::mocks {
@@ -26,9 +27,10 @@ struct TesterTwinOptions {
   double relaxation_time_s = 20.0;   ///< time constant of stress relaxation while holding
   double max_velocity_mm_per_s = 20.0;
   std::uint64_t seed = 1;
+  ServerLimits limits;  ///< what the Modbus TCP server grants each client (docs/security.md)
 };
 
-/// The simulated mechanical tester: a libmodbus Modbus TCP server on its own thread, serving
+/// The simulated mechanical tester: a Modbus TCP server on its own thread, serving
 /// the register map of docs/instruments/mechanical-tester.md, with finite-speed motion, load
 /// from the tissue model plus relaxation and noise, load-limit trips and fault injection.
 /// Thread-safe: the hooks may be called from any thread while clients talk to it.
