@@ -14,31 +14,13 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "run_facts.hpp"
+
 namespace fs = std::filesystem;
+using tocd::testing::drop_run_facts;
+using tocd::testing::slurp;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void drop_run_facts(nlohmann::json& j) {
-  if (j.is_object()) {
-    for (auto it = j.begin(); it != j.end();) {
-      const std::string& k = it.key();
-      if (k.find("seconds") != std::string::npos || k.find("per_second") != std::string::npos ||
-          k == "cached" || k == "threads" || k == "ranks")
-        it = j.erase(it);
-      else
-        drop_run_facts(*it++);
-    }
-  } else if (j.is_array()) {
-    for (auto& e : j) drop_run_facts(e);
-  }
-}
 
 class MpiCli : public ::testing::Test {
  protected:

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <unistd.h>
 
+#include "run_facts.hpp"
 #include "tocd/sim/mc/run.hpp"
 #include "tocd/sim/mesh/slab_mesh.hpp"
 #include "tocd/sim/parallel/team.hpp"
@@ -21,6 +22,8 @@ namespace mc = tocd::sim::mc;
 namespace st = tocd::sim::study;
 namespace fs = std::filesystem;
 using tocd::sim::parallel::Team;
+using tocd::testing::drop_run_facts;
+using tocd::testing::slurp;
 
 namespace {
 
@@ -52,30 +55,6 @@ mc::Optics two_layer_optics() {
   o.regions[1] = {0.01, 0.0, 0.0, 1.5, "glass"};
   o.regions[2] = {0.2, 9.0, 0.85, 1.4, "skin"};
   return o;
-}
-
-// The keys of a JSON document that report time, caching or the process layout rather than
-// the physics.
-void drop_run_facts(nlohmann::json& j) {
-  if (j.is_object()) {
-    for (auto it = j.begin(); it != j.end();) {
-      const std::string& k = it.key();
-      if (k.find("seconds") != std::string::npos || k.find("per_second") != std::string::npos ||
-          k == "cached" || k == "threads" || k == "ranks")
-        it = j.erase(it);
-      else
-        drop_run_facts(*it++);
-    }
-  } else if (j.is_array()) {
-    for (auto& e : j) drop_run_facts(e);
-  }
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 }  // namespace
