@@ -64,12 +64,13 @@ struct StepResult {
   int index = 0;
   int step_count = 0;
   double displacement_mm = 0, nominal_strain = 0, pressure_kPa = 0;  ///< targets
-  double load_N = 0, load_std_N = 0;                                 ///< NaN without a tester
-  double power_W = 0, power_std_W = 0;                               ///< mean / std over the recording window
-  double measured_pressure_kPa = 0;                                  ///< NaN without a vacuum controller
-  double measured_T = 0;                                             ///< power / baseline power
-  std::int64_t samples = 0;                                          ///< power samples in the window
-  bool settled = true;                                               ///< false: max_wait_s ran out first
+  double measured_displacement_mm = 0;  ///< mean over the recording window (NaN without a tester)
+  double load_N = 0, load_std_N = 0;    ///< NaN without a tester
+  double power_W = 0, power_std_W = 0;  ///< mean / std over the recording window
+  double measured_pressure_kPa = 0;     ///< NaN without a vacuum controller
+  double measured_T = 0;                ///< power / baseline power
+  std::int64_t samples = 0;             ///< power samples in the window
+  bool settled = true;                  ///< false: max_wait_s ran out first
 };
 
 /// Where a running protocol is, for progress lines and status bars.
@@ -127,6 +128,10 @@ struct EngineOptions {
   double progress_interval_s = 0.2;
   /// Tolerance to call a vacuum setpoint reached (kPa).
   double vacuum_reached_kPa = 1.0;
+  /// No operator can resume a pause (a command-line run): a pause for a fault (refused move,
+  /// step left incomplete, seal loss, over-range) ends the run interrupted instead, resumable
+  /// with resume(run_id). Operator pauses still pause.
+  bool unattended = false;
 };
 
 /// Counts for tests and status lines.
@@ -176,6 +181,10 @@ class Engine {
   void resume();
   /// Stops motion, retracts the pin, keeps every sample; the run ends `aborted`.
   void abort(const std::string& reason = "operator abort");
+  /// Like abort(), but at once: the pin is stopped where it is and not retracted (a second
+  /// Ctrl-C, or an abort whose retraction must not be waited for). Also cuts short a
+  /// retraction already under way.
+  void stop_now(const std::string& reason = "operator stop");
 
   /// Blocks until the run has ended and every prediction has landed; returns the final state.
   EngineState wait();
