@@ -319,8 +319,19 @@ void Engine::Impl::start_threads() {
   pollers.emplace_back([this] { guarded(*this, "power meter poller", [this] { run_power_poller(); }); });
   if (inst.vacuum)
     pollers.emplace_back([this] { guarded(*this, "vacuum poller", [this] { run_vacuum_poller(); }); });
-  prediction_worker =
-      std::thread([this] { guarded(*this, "prediction worker", [this] { run_predictions(); }); });
+  prediction_worker = std::thread([this] {
+    guarded(*this, "prediction worker", [this] { run_predictions(); });
+    // Had the worker failed, wait() must still return once the run has ended.
+    {
+      std::unique_lock lock(pred_mu);
+      pred_cv.wait(lock, [&] { return pred_stop; });
+    }
+    {
+      std::lock_guard lock(mu);
+      finished = true;
+    }
+    cv.notify_all();
+  });
   sequencer = std::thread([this] { run_sequence(); });
 }
 
