@@ -320,3 +320,23 @@ TEST_F(StepTruth, StopNowStopsThePinWhereItIsWithoutRetracting) {
   EXPECT_TRUE(has_event(r, run, "operator", "stopped at once: the pin is left at 1.25"))
       << events_text(r, run);
 }
+
+TEST_F(StepTruth, PollersAtTheSlowestRatesWakeAtOnceWhenTheRunStops) {
+  // Real time, 1 Hz power and 10 Hz tester polling: a poller sleeping out its whole period
+  // would hold the end of the run up to 1 s.
+  auto world = std::make_shared<FakeWorld>(1.0);
+  tocd::db::Database db(path_);
+  auto text = pin_protocol("0.25", 50.0, 2.0, 10.0);
+  text.replace(text.find("power_Hz = 10"), 13, "power_Hz = 1");
+  EngineOptions o;
+  o.clock_factor = 1.0;
+  Engine engine(db, make_fake_instruments(world), o);
+  engine.start(parse_protocol(text, "truth.toml"));
+  ASSERT_TRUE(eventually([&] { return engine.state() == EngineState::moving; }));
+  std::this_thread::sleep_for(std::chrono::milliseconds(150));  // both pollers asleep by now
+  const auto t0 = std::chrono::steady_clock::now();
+  engine.stop_now("test");
+  EXPECT_EQ(engine.wait(), EngineState::aborted);
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_LT(s, 0.3) << "the run took " << s << " s to end";
+}
