@@ -272,7 +272,7 @@ std::int64_t Engine::resume(std::int64_t run_id) {
     m.db.set_run_status(run_id, db::RunStatus::interrupted);
     throw;
   }
-  if (m.observer) m.observer->on_event(rp.gap_event);
+  m.notify([&](EngineObserver& o) { o.on_event(rp.gap_event); });
   m.start_threads();
   return run_id;
 }
@@ -343,7 +343,7 @@ void Engine::Impl::set_state(EngineState s, const std::string& why) {
   }
   cv.notify_all();
   emit_event("state", fmt::format("{}{}{}", to_string(s), why.empty() ? "" : ": ", why), current_step);
-  if (observer) observer->on_state(s, why);
+  notify([&](EngineObserver& o) { o.on_state(s, why); });
 }
 
 void Engine::Impl::emit_event(const std::string& kind, const std::string& message, int step,
@@ -357,7 +357,14 @@ void Engine::Impl::emit_event(const std::string& kind, const std::string& messag
       logger("acquisition")->error("run {}: event not stored ({}): {}: {}", run_id, ex.what(), kind, message);
     }
   }
-  if (observer) observer->on_event(e);
+  notify([&](EngineObserver& o) { o.on_event(e); });
+}
+
+void Engine::Impl::observer_failed(const char* what) noexcept {
+  try {
+    logger("acquisition")->error("run {}: an observer callback threw: {}", run_id, what);
+  } catch (...) {  // logging itself failed: nothing more to do
+  }
 }
 
 Progress Engine::Impl::make_progress() const {

@@ -108,6 +108,21 @@ struct Engine::Impl {
   std::thread sequencer, prediction_worker;
   std::vector<std::thread> pollers;
 
+  /// Calls the observer (if any) with `call`; whatever the observer throws is logged, so that
+  /// no exception from it leaves an engine thread.
+  template <class Call>
+  void notify(Call&& call) noexcept {
+    if (!observer) return;
+    try {
+      call(*observer);
+    } catch (const std::exception& e) {
+      observer_failed(e.what());
+    } catch (...) {
+      observer_failed("unknown error");
+    }
+  }
+  void observer_failed(const char* what) noexcept;
+
   // engine.cpp
   void set_state(EngineState s, const std::string& why);
   void emit_event(const std::string& kind, const std::string& message, int step = -1,

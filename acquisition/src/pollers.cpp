@@ -120,7 +120,7 @@ class LiveBatch {
     }
     const std::int64_t now = monotonic_ns();
     if (!force && static_cast<double>(now - last_) * 1e-9 < m_.opt.live_interval_s) return;
-    if (!buf_.empty()) m_.observer->on_samples(buf_);
+    if (!buf_.empty()) m_.notify([&](EngineObserver& o) { o.on_samples(buf_); });
     buf_.clear();
     last_ = now;
   }

@@ -27,7 +27,7 @@ Interrupt Engine::Impl::wait_until(double max_sim_s, const std::function<bool()>
     if (done && done()) return Interrupt::none;
     const std::int64_t now = monotonic_ns();
     if (observer && now >= next_progress) {
-      observer->on_progress(make_progress());
+      notify([&](EngineObserver& o) { o.on_progress(make_progress()); });
       next_progress = now + static_cast<std::int64_t>(opt.progress_interval_s * 1e9);
     }
     if (now >= real_end) return Interrupt::none;
@@ -259,7 +259,7 @@ Interrupt Engine::Impl::run_step(const ProtocolStep& step) {
                fmt::format("step {}/{} recorded: T = {:.5f} ({} power readings), load {:.4f} N",
                            step.index + 1, n, r.measured_T, r.samples, r.load_N),
                step.index);
-    if (observer) observer->on_step_recorded(r);
+    notify([&](EngineObserver& o) { o.on_step_recorded(r); });
     if (!vacuum && predictor) {
       // The model is asked about the displacement the window measured, not the one it aimed at.
       queue_prediction({run_id, step.index, r.measured_displacement_mm, protocol.sample.thickness_mm,

@@ -340,3 +340,22 @@ TEST_F(StepTruth, PollersAtTheSlowestRatesWakeAtOnceWhenTheRunStops) {
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_LT(s, 0.3) << "the run took " << s << " s to end";
 }
+
+TEST_F(StepTruth, AnObserverThatThrowsNeverTakesAnEngineThreadDown) {
+  struct Throwing : EngineObserver {
+    void on_samples(std::span<const LiveSample>) override { throw std::runtime_error("samples"); }
+    void on_step_recorded(const StepResult&) override { throw std::runtime_error("step"); }
+    void on_prediction(int, const PredictedStep&) override { throw std::runtime_error("prediction"); }
+    void on_event(const tocd::db::EventRecord&) override { throw std::runtime_error("event"); }
+    void on_state(EngineState, const std::string&) override { throw std::runtime_error("state"); }
+    void on_progress(const Progress&) override { throw std::runtime_error("progress"); }
+  } observer;
+  auto world = std::make_shared<FakeWorld>(kFactor);
+  tocd::db::Database db(path_);
+  Engine engine(db, make_fake_instruments(world), fast(), std::make_shared<FakePredictor>(), &observer);
+  const auto run = engine.start(parse_protocol(pin_protocol("0.25, 0.5"), "truth.toml"));
+  EXPECT_EQ(engine.wait(), EngineState::completed) << engine.error();
+  const tocd::db::Reader r(path_);
+  EXPECT_EQ(r.steps(run).size(), 2u);
+  EXPECT_EQ(r.predictions(run).size(), 2u);
+}
