@@ -89,6 +89,7 @@ struct Progress {
 /// prediction worker), possibly several at once, never while the engine holds a lock the
 /// callback could need: a callback may call Engine::pause/resume/abort/state/progress, but
 /// must not block for long (the poller that called it waits) and must not call wait().
+/// Whatever a callback throws is logged and dropped (it never stops an engine thread).
 /// A Qt GUI forwards them with queued signals. The default implementations do nothing.
 class EngineObserver {
  public:
@@ -153,7 +154,14 @@ struct EngineStats {
 /// Interlocks are checked by the pollers on every reading: a load above max_load_N (or the
 /// tester reporting a limit or fault) stops the motion at once from the poller, records an
 /// "interlock" event, retracts the pin (when configured) and ends the run `interrupted`;
-/// a vacuum loss in a vacuum run, or a power reading over range, pauses the run.
+/// a vacuum loss in a vacuum run, or a power reading over range, pauses the run. The load
+/// limit and a travel limit are also written into the tester's own limit registers at start
+/// and on resume, so the instrument stops itself whatever the poll rate.
+///
+/// A step is recorded only when its move was carried out and ended within the protocol's
+/// position tolerance, and its recording window was fault-free with enough readings;
+/// otherwise it is recorded again (bounded) or left without a row and the run pauses
+/// (docs/acquisition.md).
 ///
 /// All public methods are thread-safe.
 class Engine {
