@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <sqlite3.h>
 
 #include "fake_rig.hpp"
 #include "protocol_text.hpp"
@@ -82,6 +83,19 @@ class StepTruth : public ::testing::Test {
 
   fs::path dir_, path_;
 };
+
+/// Pages the database holds now (its logical size, WAL included).
+std::uint64_t page_count(const fs::path& path) {
+  sqlite3* c = nullptr;
+  sqlite3_open_v2(path.c_str(), &c, SQLITE_OPEN_READONLY, nullptr);
+  sqlite3_stmt* st = nullptr;
+  sqlite3_prepare_v2(c, "PRAGMA page_count", -1, &st, nullptr);
+  const std::uint64_t n =
+      sqlite3_step(st) == SQLITE_ROW ? static_cast<std::uint64_t>(sqlite3_column_int64(st, 0)) : 0;
+  sqlite3_finalize(st);
+  sqlite3_close(c);
+  return n;
+}
 
 std::string with(std::string text, const std::string& after, const std::string& line) {
   const auto at = text.find(after);
@@ -287,7 +301,7 @@ TEST_F(StepTruth, AFullDatabaseEndsTheRunInterruptedAndKeepsWhatWasCommitted) {
   EngineOptions o = fast();
   // The writer may not grow the file beyond a few pages more than it has now: the samples
   // of the first step fill them (PRAGMA max_page_count, as a full disk would).
-  o.writer.max_page_count = fs::file_size(path_) / 4096 + 40;
+  o.writer.max_page_count = page_count(path_) + 40;
   Engine engine(db, make_fake_instruments(world), o);
   const auto run =
       engine.start(parse_protocol(pin_protocol("0.25, 0.5, 0.75", 50.0, 5.0, 1000.0), "truth.toml"));
