@@ -11,7 +11,7 @@ CompareTable compare_table(const db::Reader& reader, std::int64_t run_id) {
   const db::RunRecord run = reader.run(run_id);
   t.run_id = run_id;
   t.run_name = run.name;
-  t.status = std::string(db::to_string(run.status));
+  t.status = std::string(db::to_string(reader.shown_status(run_id)));
   t.baseline_power_W = run.baseline_power_W;
   const auto load = reader.channel(run_id, "load");
   for (const auto& row : reader.compare(run_id)) {
@@ -28,6 +28,10 @@ CompareTable compare_table(const db::Reader& reader, std::int64_t run_id) {
     l.predicted_T = row.prediction ? row.prediction->T : db::kUnset;
     l.predicted_T_stderr = row.prediction ? row.prediction->T_stderr : db::kUnset;
     l.relative_difference = row.relative_difference;
+    if (!l.completed) {
+      // A step cut short (older runs stored such rows) is not a measurement: no value of it is shown.
+      l.load_N = l.measured_T = l.relative_difference = db::kUnset;
+    }
     t.lines.push_back(l);
   }
   return t;

@@ -107,6 +107,25 @@ double measure_baseline(devices::PowerMeter& pm, const Protocol& p, const Scaled
   return s.mean();
 }
 
+/// The travel limit written to the tester: the glass under the sample, which no step reaches
+/// (steps stay within [0, thickness) of contact).
+double travel_limit_mm(const Protocol& p) {
+  return p.contact_position_mm + p.sample.thickness_mm;
+}
+
+/// Writes the protocol's load limit and the travel limit into the tester's own limit
+/// registers, so that the instrument stops itself whatever the engine's poll rate. Throws
+/// EngineError when the tester does not take them.
+void write_tester_limits(const Protocol& p, devices::MechanicalTester& tester) {
+  try {
+    tester.set_limits(travel_limit_mm(p), p.interlocks.max_load_N);
+  } catch (const std::exception& e) {
+    throw EngineError(
+        fmt::format("the mechanical tester did not take the limits (travel {} mm, load {} N): {}",
+                    travel_limit_mm(p), p.interlocks.max_load_N, e.what()));
+  }
+}
+
 std::int64_t register_instrument(db::Database& db, const std::string& kind, devices::Identity id) {
   db::InstrumentRecord r;
   r.kind = kind;
@@ -154,6 +173,7 @@ std::int64_t Engine::start(const Protocol& protocol) {
   instrument[kPower] = register_instrument(m.db, "power_meter", m.inst.power_meter->identity());
   if (m.inst.vacuum) instrument[kPressure] = register_instrument(m.db, "vacuum", m.inst.vacuum->identity());
   const std::string tare_note = tare_load_cell(protocol, m.inst);
+  if (m.inst.tester) write_tester_limits(protocol, *m.inst.tester);
 
   db::SampleRecord sample;
   sample.name = protocol.sample.tissue;
@@ -223,6 +243,16 @@ std::int64_t Engine::resume(std::int64_t run_id) {
     m.clock =
         ScaledClock(m.opt.clock_factor, std::max({monotonic_ns(), rp.gap_to_t_ns, rp.gap_from_t_ns + 1}));
     m.first_step = rp.first_incomplete_step;
+    if (m.inst.tester) {
+      write_tester_limits(m.protocol, *m.inst.tester);
+      // A limit the tester latched when the run stopped would refuse every move: the operator
+      // resuming the run clears it, and the run's log says so.
+      if (m.inst.tester->read().status.limit) {
+        m.inst.tester->clear_fault();
+        m.db.add_event({0, run_id, m.clock.now_ns(), "operator",
+                        "resume: cleared the limit the mechanical tester had latched", m.first_step, ""});
+      }
+    }
     const db::Reader reader(m.db.path());
     const std::array<bool, kSlots> present{bool(m.inst.tester), bool(m.inst.tester), true,
                                            bool(m.inst.vacuum)};
@@ -242,23 +272,66 @@ std::int64_t Engine::resume(std::int64_t run_id) {
     m.db.set_run_status(run_id, db::RunStatus::interrupted);
     throw;
   }
-  if (m.observer) m.observer->on_event(rp.gap_event);
+  m.notify([&](EngineObserver& o) { o.on_event(rp.gap_event); });
   m.start_threads();
   return run_id;
 }
 
+namespace {
+
+/// Runs a thread's body; whatever it throws becomes a logged error and a trip of the run,
+/// never std::terminate.
+void guarded(Engine::Impl& m, const char* what, const std::function<void()>& body) {
+  try {
+    body();
+  } catch (const std::exception& e) {
+    logger("acquisition")->error("run {}: {} failed: {}", m.run_id, what, e.what());
+    m.trip(fmt::format("{} failed: {}", what, e.what()));
+  } catch (...) {
+    logger("acquisition")->error("run {}: {} failed", m.run_id, what);
+    m.trip(fmt::format("{} failed with an unknown error", what));
+  }
+}
+
+}  // namespace
+
 void Engine::Impl::start_threads() {
-  writer = std::make_unique<db::Writer>(db, opt.writer);
+  db::WriterOptions wo = opt.writer;
+  // A commit that fails loses samples: that is a fault of the run, which ends interrupted
+  // (what was committed stays; the run can be resumed once the storage is fixed).
+  wo.on_failure = [this, user = opt.writer.on_failure](const db::WriterFailure& f) {
+    storage_failed = true;
+    trip(fmt::format("storage: a database commit failed, {} sample(s) lost ({} so far): {}", f.samples,
+                     f.samples_total, f.error));
+    if (user) user(f);
+  };
+  writer = std::make_unique<db::Writer>(db, wo);
   load_window.set_keep(2.0 * protocol.settle.window_s + 1.0);
   pressure_window.set_keep(2.0 * protocol.settle.window_s + 1.0);
   segment_start_ns = clock.now_ns();
   current_step = first_step;
   set_state(EngineState::starting,
-            fmt::format("run {} from step {} of {}", run_id, first_step + 1, protocol.steps.size()));
-  if (inst.tester) pollers.emplace_back([this] { run_tester_poller(); });
-  pollers.emplace_back([this] { run_power_poller(); });
-  if (inst.vacuum) pollers.emplace_back([this] { run_vacuum_poller(); });
-  prediction_worker = std::thread([this] { run_predictions(); });
+            first_step < static_cast<int>(protocol.steps.size())
+                ? fmt::format("run {} from step {} of {}", run_id, first_step + 1, protocol.steps.size())
+                : fmt::format("run {}: all {} steps are already recorded", run_id, protocol.steps.size()));
+  if (inst.tester)
+    pollers.emplace_back([this] { guarded(*this, "tester poller", [this] { run_tester_poller(); }); });
+  pollers.emplace_back([this] { guarded(*this, "power meter poller", [this] { run_power_poller(); }); });
+  if (inst.vacuum)
+    pollers.emplace_back([this] { guarded(*this, "vacuum poller", [this] { run_vacuum_poller(); }); });
+  prediction_worker = std::thread([this] {
+    guarded(*this, "prediction worker", [this] { run_predictions(); });
+    // Had the worker failed, wait() must still return once the run has ended.
+    {
+      std::unique_lock lock(pred_mu);
+      pred_cv.wait(lock, [&] { return pred_stop; });
+    }
+    {
+      std::lock_guard lock(mu);
+      finished = true;
+    }
+    cv.notify_all();
+  });
   sequencer = std::thread([this] { run_sequence(); });
 }
 
@@ -270,15 +343,28 @@ void Engine::Impl::set_state(EngineState s, const std::string& why) {
   }
   cv.notify_all();
   emit_event("state", fmt::format("{}{}{}", to_string(s), why.empty() ? "" : ": ", why), current_step);
-  if (observer) observer->on_state(s, why);
+  notify([&](EngineObserver& o) { o.on_state(s, why); });
 }
 
 void Engine::Impl::emit_event(const std::string& kind, const std::string& message, int step,
                               const std::string& data_json) {
   db::EventRecord e{0, run_id, clock.now_ns(), kind, message, step, data_json};
   logger("acquisition")->info("run {}: {}: {}", run_id, kind, message);
-  if (!writer || !writer->enqueue(e)) db.add_event(e);
-  if (observer) observer->on_event(e);
+  if (!writer || storage_failed || !writer->enqueue(e)) {
+    try {
+      db.add_event(e);
+    } catch (const std::exception& ex) {  // storage trouble is reported by the writer; never throw here
+      logger("acquisition")->error("run {}: event not stored ({}): {}: {}", run_id, ex.what(), kind, message);
+    }
+  }
+  notify([&](EngineObserver& o) { o.on_event(e); });
+}
+
+void Engine::Impl::observer_failed(const char* what) noexcept {
+  try {
+    logger("acquisition")->error("run {}: an observer callback threw: {}", run_id, what);
+  } catch (...) {  // logging itself failed: nothing more to do
+  }
 }
 
 Progress Engine::Impl::make_progress() const {
@@ -286,8 +372,8 @@ Progress Engine::Impl::make_progress() const {
   {
     std::lock_guard lock(mu);
     p.state = state;
-    p.step_index = current_step;
   }
+  p.step_index = current_step;
   p.step_count = static_cast<int>(protocol.steps.size());
   p.elapsed_s = static_cast<double>(clock.now_ns() - segment_start_ns) * 1e-9;
   // Nominal time of the steps left, scaled by how the finished ones compared to nominal.
@@ -309,6 +395,7 @@ void Engine::pause() {
     std::lock_guard lock(impl_->mu);
     if (is_terminal(impl_->state) || impl_->state == EngineState::idle) return;
     impl_->pause_requested = true;
+    impl_->pause_for_fault = false;
     impl_->pause_reason = "operator pause";
   }
   impl_->cv.notify_all();
@@ -328,6 +415,18 @@ void Engine::abort(const std::string& reason) {
     if (impl_->abort_requested) return;
     impl_->abort_requested = true;
     impl_->abort_reason = reason;
+  }
+  impl_->cv.notify_all();
+}
+
+void Engine::stop_now(const std::string& reason) {
+  impl_->abort_at_once = true;
+  {
+    std::lock_guard lock(impl_->mu);
+    if (!impl_->abort_requested) {
+      impl_->abort_requested = true;
+      impl_->abort_reason = reason;
+    }
   }
   impl_->cv.notify_all();
 }

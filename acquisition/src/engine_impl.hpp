@@ -15,24 +15,21 @@
 #include <thread>
 #include <vector>
 
+#include "channel_slots.hpp"
+#include "command_queue.hpp"
 #include "rate_window.hpp"
 #include "running_stats.hpp"
 #include "scaled_clock.hpp"
+#include "stop_signal.hpp"
 #include "tocd/acquisition/engine.hpp"
 
 namespace tocd::acquisition {
 
-/// Channel slots of a run (index into the per-channel arrays).
-enum Slot : int { kDisplacement = 0, kLoad = 1, kPower = 2, kPressure = 3, kSlots = 4 };
-inline constexpr std::array<std::string_view, kSlots> kChannelNames{"displacement", "load", "power",
-                                                                    "pressure"};
-inline constexpr std::array<std::string_view, kSlots> kChannelUnits{"mm", "N", "W", "kPa"};
-
 /// What interrupted a wait of the sequencer, strongest first.
 enum class Interrupt { none, trip, abort, pause };
 
-/// A command the sequencer queues for the thread that owns a driver.
-using DriverCommand = std::function<void()>;
+/// How a move of the pin ended.
+enum class MoveResult { arrived, failed, timed_out, interrupted };
 
 struct Engine::Impl {
   Impl(db::Database& d, InstrumentSet i, EngineOptions o, std::shared_ptr<StepPredictor> p,
@@ -64,31 +61,37 @@ struct Engine::Impl {
   EngineState state = EngineState::idle;
   std::string error;
   bool pause_requested = false;
+  bool pause_for_fault = false;  // not the operator's: an unattended run ends instead of pausing
   std::string pause_reason;
   bool resume_requested = false;
   bool abort_requested = false;
   std::string abort_reason;
+  std::atomic<bool> abort_at_once{false};  // second Ctrl-C: stop the pin, no retraction
   bool tripped = false;
   std::string trip_reason;
-  bool finished = false;  // acquisition over and every prediction landed
-  int current_step = 0;
+  bool finished = false;             // acquisition over and every prediction landed
+  std::atomic<int> current_step{0};  // read by every thread that records an event
   std::int64_t segment_start_ns = 0;
 
   // --- latest readings (pollers write, anyone reads) ---
   std::array<std::atomic<double>, kSlots> latest{};
   std::atomic<bool> tester_moving{false}, tester_at_target{false};
   std::atomic<std::uint64_t> tester_commands_applied{0};  // reading taken after this many commands
-  std::atomic<std::uint64_t> tester_commands_sent{0};
+  std::atomic<bool> tester_limit_latched{false};          // the tester reports its limit tripped
   std::atomic<bool> load_interlock_armed{true};
   std::atomic<bool> seal_watch{false};  // vacuum setpoint reached in this step: watch for loss
   std::atomic<double> seal_setpoint_kPa{0};
-  std::atomic<bool> stop_pollers{false};
+  StopSignal stop_pollers;
   std::atomic<bool> tester_lost{false};  // its poller gave up: no more commands reach it
   std::atomic<std::uint64_t> enqueued{0}, dropped{0}, overruns{0};
+  // Failed reads, failed commands and implausible readings of any instrument: a recording
+  // window during which this moved is not a measurement.
+  std::atomic<std::uint64_t> instrument_faults{0};
+  // A commit failed: events go straight to the database from then on (they may still fit).
+  std::atomic<bool> storage_failed{false};
 
   // --- driver command queues (sequencer -> poller) ---
-  std::mutex cmd_mu;
-  std::deque<DriverCommand> tester_cmds, vacuum_cmds;
+  CommandQueue tester_cmds, vacuum_cmds;
 
   // --- settle windows and the recording window ---
   RateWindow load_window, pressure_window;
@@ -105,6 +108,21 @@ struct Engine::Impl {
   std::thread sequencer, prediction_worker;
   std::vector<std::thread> pollers;
 
+  /// Calls the observer (if any) with `call`; whatever the observer throws is logged, so that
+  /// no exception from it leaves an engine thread.
+  template <class Call>
+  void notify(Call&& call) noexcept {
+    if (!observer) return;
+    try {
+      call(*observer);
+    } catch (const std::exception& e) {
+      observer_failed(e.what());
+    } catch (...) {
+      observer_failed("unknown error");
+    }
+  }
+  void observer_failed(const char* what) noexcept;
+
   // engine.cpp
   void set_state(EngineState s, const std::string& why);
   void emit_event(const std::string& kind, const std::string& message, int step = -1,
@@ -118,6 +136,7 @@ struct Engine::Impl {
   void run_vacuum_poller();
   void trip(const std::string& reason);
   void request_pause(const std::string& reason);
+  void command_failed(const char* instrument, const std::string& what, const std::string& error);
   void enqueue_sample(int slot, std::int64_t t_ns, double value, std::vector<LiveSample>& live);
 
   // sequencer.cpp
@@ -125,10 +144,14 @@ struct Engine::Impl {
   Interrupt pending_interrupt() const;  // caller holds mu
   Interrupt wait_until(double max_sim_s, const std::function<bool()>& done);
   Interrupt run_step(const ProtocolStep& step);
-  void send_tester(DriverCommand cmd);
-  void send_vacuum(DriverCommand cmd);
-  bool move_and_wait(double position_mm, double speed_mm_per_s, bool interruptible, Interrupt& why);
-  void finish(EngineState final_state, const std::string& why);
+  std::uint64_t send_tester(std::string what, std::function<void()> cmd);
+  void send_vacuum(std::string what, std::function<void()> cmd);
+  bool wait_command(const CommandQueue& q, std::uint64_t id, double max_real_s);
+  MoveResult move_and_wait(double position_mm, double speed_mm_per_s, bool interruptible, Interrupt& why,
+                           std::string& problem);
+  Interrupt move_failed(const ProtocolStep& step, const std::string& problem);
+  Interrupt step_incomplete(const ProtocolStep& step, const std::string& problem);
+  void finish(EngineState final_state, std::string why);
 
   // predictions.cpp
   void run_predictions();

@@ -2,6 +2,7 @@
 // the commands the sequencer queued, reads at the protocol's rate, timestamps and enqueues
 // the samples, feeds the settle and recording windows, and checks the interlocks.
 #include <cmath>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -12,14 +13,18 @@ namespace tocd::acquisition {
 
 namespace {
 
+/// A power reading below -this x baseline is not zero noise but a broken reading.
+constexpr double kNegativePowerTolerance = 0.01;
+
 /// Paces a poller at `rate_Hz` of simulated time. Late polls run back to back (no sample is
 /// skipped) unless the poller falls behind by more than 0.5 s of simulated time and 1 s of
 /// real time (a stalled driver, not a scheduling hiccup of a fast simulated clock); then it
-/// skips ahead and counts an overrun.
+/// skips ahead and counts an overrun. Its sleeps end at once when the pollers are stopped.
 class Pacer {
  public:
-  Pacer(const ScaledClock& clock, double rate_Hz)
+  Pacer(const ScaledClock& clock, const StopSignal& stop, double rate_Hz)
       : clock_(clock),
+        stop_(stop),
         period_ns_(static_cast<std::int64_t>(1e9 / rate_Hz)),
         max_lag_ns_(static_cast<std::int64_t>(std::max(0.5, clock.factor()) * 1e9)),
         next_(clock.now_ns()) {}
@@ -31,12 +36,14 @@ class Pacer {
       next_ = now;
       return true;
     }
-    clock_.sleep_until(next_);
+    const std::int64_t ahead = next_ - now;
+    if (ahead > 0) stop_.sleep_for(clock_.real(static_cast<double>(ahead) * 1e-9));
     return false;
   }
 
  private:
   const ScaledClock& clock_;
+  const StopSignal& stop_;
   std::int64_t period_ns_;
   std::int64_t max_lag_ns_;
   std::int64_t next_;
@@ -53,6 +60,7 @@ class FaultTracker {
   /// Returns false when the instrument has been failing for too long (the run was tripped).
   bool failed(const std::exception& e) {
     const std::int64_t now = m_.clock.now_ns();
+    ++m_.instrument_faults;
     if (count_++ == 0) {
       since_ = now;
       m_.emit_event("fault", fmt::format("{}: {} (the driver's retries did not help)", instrument_, e.what()),
@@ -74,10 +82,7 @@ class FaultTracker {
   }
 
  private:
-  int current_step() {
-    std::lock_guard lock(m_.mu);
-    return m_.current_step;
-  }
+  int current_step() { return m_.current_step; }
   Engine::Impl& m_;
   std::string instrument_;
   std::atomic<bool>* lost_;
@@ -85,22 +90,22 @@ class FaultTracker {
   std::int64_t since_ = 0;
 };
 
-/// Runs the queued commands; a command that throws is an event, not a crash.
-void drain(Engine::Impl& m, std::deque<DriverCommand>& queue, const char* instrument) {
-  for (;;) {
-    DriverCommand cmd;
-    {
-      std::lock_guard lock(m.cmd_mu);
-      if (queue.empty()) return;
-      cmd = std::move(queue.front());
-      queue.pop_front();
-    }
-    try {
-      cmd();
-    } catch (const std::exception& e) {
-      m.emit_event("fault", fmt::format("{}: command failed: {}", instrument, e.what()));
-    }
-  }
+/// Runs the queued commands; a command that throws is an event and a fault, not a crash, and
+/// its outcome waits for the sequencer in the queue.
+std::uint64_t drain(Engine::Impl& m, CommandQueue& queue, const char* instrument) {
+  return queue.drain(
+      [&](const std::string& what, const std::string& error) { m.command_failed(instrument, what, error); });
+}
+
+/// A poller that fell far behind has skipped readings: that is a fault of the instrument (a
+/// stalled driver), and a recording window it falls into is not a measurement.
+void overran(Engine::Impl& m, const char* instrument) {
+  ++m.overruns;
+  ++m.instrument_faults;
+  m.emit_event("fault",
+               fmt::format("{}: readings fell too far behind (a stalled driver); the poller skipped ahead",
+                           instrument),
+               m.current_step);
 }
 
 /// Hands live samples to the observer at most every live_interval_s (real time).
@@ -115,7 +120,7 @@ class LiveBatch {
     }
     const std::int64_t now = monotonic_ns();
     if (!force && static_cast<double>(now - last_) * 1e-9 < m_.opt.live_interval_s) return;
-    if (!buf_.empty()) m_.observer->on_samples(buf_);
+    if (!buf_.empty()) m_.notify([&](EngineObserver& o) { o.on_samples(buf_); });
     buf_.clear();
     last_ = now;
   }
@@ -144,6 +149,11 @@ void Engine::Impl::enqueue_sample(int slot, std::int64_t t_ns, double value, std
   live.push_back({kChannelNames[slot], t_ns, value});
 }
 
+void Engine::Impl::command_failed(const char* instrument, const std::string& what, const std::string& error) {
+  ++instrument_faults;
+  emit_event("fault", fmt::format("{}: command '{}' failed: {}", instrument, what, error), current_step);
+}
+
 void Engine::Impl::trip(const std::string& reason) {
   bool first = false;
   {
@@ -163,6 +173,7 @@ void Engine::Impl::request_pause(const std::string& reason) {
     std::lock_guard lock(mu);
     if (pause_requested || state == EngineState::paused) return;
     pause_requested = true;
+    pause_for_fault = true;
     pause_reason = reason;
   }
   cv.notify_all();
@@ -171,20 +182,20 @@ void Engine::Impl::request_pause(const std::string& reason) {
 
 void Engine::Impl::run_tester_poller() {
   auto& tester = *inst.tester;
-  Pacer pacer(clock, protocol.rates.tester_Hz);
+  Pacer pacer(clock, stop_pollers, protocol.rates.tester_Hz);
   FaultTracker faults(*this, "mechanical tester", &tester_lost);
   LiveBatch live(*this);
   const double max_load = protocol.interlocks.max_load_N;
   bool limit_reported = false;
-  while (!stop_pollers) {
-    const std::uint64_t sent = tester_commands_sent;
-    drain(*this, tester_cmds, "mechanical tester");
+  while (!stop_pollers.requested()) {
+    const std::uint64_t sent = drain(*this, tester_cmds, "mechanical tester");
     try {
       const devices::TesterReading r = tester.read();
       const std::int64_t t = clock.now_ns();
       faults.succeeded();
       tester_moving = r.status.moving;
       tester_at_target = r.status.at_target;
+      tester_limit_latched = r.status.limit;
       tester_commands_applied = sent;
       const double d = r.position_mm - protocol.contact_position_mm;
       enqueue_sample(kDisplacement, t, d, live.buffer());
@@ -211,7 +222,7 @@ void Engine::Impl::run_tester_poller() {
           trip(why);
         }
       }
-    } catch (const devices::DeviceError& e) {
+    } catch (const std::exception& e) {
       if (!faults.failed(e)) {
         try {
           tester.stop();
@@ -221,7 +232,7 @@ void Engine::Impl::run_tester_poller() {
       }
     }
     live.maybe_flush();
-    if (pacer.wait()) ++overruns;
+    if (pacer.wait()) overran(*this, "mechanical tester");
   }
   drain(*this, tester_cmds, "mechanical tester");
   live.maybe_flush(true);
@@ -229,14 +240,24 @@ void Engine::Impl::run_tester_poller() {
 
 void Engine::Impl::run_power_poller() {
   auto& pm = *inst.power_meter;
-  Pacer pacer(clock, protocol.rates.power_Hz);
+  Pacer pacer(clock, stop_pollers, protocol.rates.power_Hz);
   FaultTracker faults(*this, "power meter");
   LiveBatch live(*this);
   bool over_range_reported = false;
-  while (!stop_pollers) {
+  while (!stop_pollers.requested()) {
     try {
       const devices::PowerReading r = pm.measure();
       const std::int64_t t = clock.now_ns();
+      // A reading that cannot be light on the sensor is a failed read, not a sample.
+      if (!std::isfinite(r.power_W)) {
+        throw std::runtime_error(fmt::format("reading {} W is not a number", r.power_W));
+      }
+      if (r.power_W < -kNegativePowerTolerance * baseline_W) {
+        throw std::runtime_error(
+            fmt::format("reading {:.4g} W is negative beyond the sensor's zero noise "
+                        "(more than {} % of the baseline)",
+                        r.power_W, kNegativePowerTolerance * 100.0));
+      }
       faults.succeeded();
       enqueue_sample(kPower, t, r.power_W, live.buffer());
       if (r.over_range && !over_range_reported) {
@@ -250,21 +271,21 @@ void Engine::Impl::run_power_poller() {
       } else if (!r.over_range) {
         over_range_reported = false;
       }
-    } catch (const devices::DeviceError& e) {
+    } catch (const std::exception& e) {
       if (!faults.failed(e)) break;
     }
     live.maybe_flush();
-    if (pacer.wait()) ++overruns;
+    if (pacer.wait()) overran(*this, "power meter");
   }
   live.maybe_flush(true);
 }
 
 void Engine::Impl::run_vacuum_poller() {
   auto& vac = *inst.vacuum;
-  Pacer pacer(clock, protocol.rates.pressure_Hz);
+  Pacer pacer(clock, stop_pollers, protocol.rates.pressure_Hz);
   FaultTracker faults(*this, "vacuum controller");
   LiveBatch live(*this);
-  while (!stop_pollers) {
+  while (!stop_pollers.requested()) {
     drain(*this, vacuum_cmds, "vacuum controller");
     try {
       const devices::VacuumReading r = vac.read();
@@ -278,11 +299,11 @@ void Engine::Impl::run_vacuum_poller() {
                                   r.pressure_kPa, seal_setpoint_kPa.load(),
                                   protocol.interlocks.vacuum_loss_kPa));
       }
-    } catch (const devices::DeviceError& e) {
+    } catch (const std::exception& e) {
       if (!faults.failed(e)) break;
     }
     live.maybe_flush();
-    if (pacer.wait()) ++overruns;
+    if (pacer.wait()) overran(*this, "vacuum controller");
   }
   drain(*this, vacuum_cmds, "vacuum controller");
   live.maybe_flush(true);

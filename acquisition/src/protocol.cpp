@@ -39,6 +39,44 @@ double Protocol::nominal_duration_s() const {
 
 namespace {
 
+/// The accepted values of a protocol number: [lo, hi] (or (lo, hi] when `lo_open`), its unit
+/// and why these are the limits (every error that refuses a value says so).
+struct Range {
+  double lo;
+  double hi;
+  bool lo_open;
+  std::string_view unit;
+  std::string_view why;
+};
+
+// The accepted range of every protocol number, with the reason for its limits.
+constexpr Range kThickness{0.0, 100.0, true, "mm", "a sample under a pin; more is a unit error"};
+constexpr Range kBaselinePower{0.0, 10.0, true, "W", "glass-only power on an optical power meter"};
+constexpr Range kMeasureSeconds{0.0, 600.0, true, "s", "a baseline average, not a recording"};
+constexpr Range kContact{0.0, 1000.0, false, "mm", "a tester position; more is a unit error"};
+constexpr Range kApproach{0.0, limits::max_approach_speed_mm_per_s, true, "mm/s",
+                          "the pin must not strike the tissue; above it the tester's own load limit, checked "
+                          "every 1 ms, lets the load overshoot by more than the stated bound"};
+constexpr Range kRetract{0.0, limits::max_retract_speed_mm_per_s, true, "mm/s",
+                         "within every supported tester's speed range"};
+constexpr Range kHold{0.0, 86400.0, false, "s", "at most a day; a longer wait is a unit error"};
+constexpr Range kRecord{0.0, 3600.0, true, "s", "at most an hour per step; a longer window is a unit error"};
+constexpr Range kTolerance{0.0, 0.5, true, "mm", "a position check looser than 0.5 mm checks nothing"};
+constexpr Range kFraction{0.0, 1.0, true, "", "a fraction of the readings expected in the window"};
+constexpr Range kRerecords{0.0, 10.0, false, "", "each re-recording repeats the step; more hides a fault"};
+constexpr Range kSettleRate{0.0, 1000.0, true, "N/s or kPa/s", "a settle criterion, not a switch"};
+constexpr Range kSettleWindow{0.0, 600.0, true, "s", "a fit window of at most 10 minutes"};
+constexpr Range kSettleWait{0.0, 3600.0, false, "s", "a step waits at most an hour to settle"};
+constexpr Range kTesterRate{limits::min_tester_Hz, 10000.0, false, "Hz",
+                            "readings at least every 0.1 s bound the travel between two of them, and a "
+                            "lost tester is noticed within the engine's fault tolerance"};
+constexpr Range kOtherRate{limits::min_instrument_Hz, 10000.0, false, "Hz",
+                           "a reading at least every second, so a lost instrument is noticed within the "
+                           "engine's fault tolerance"};
+constexpr Range kMaxLoad{0.0, limits::max_load_N, true, "N",
+                         "a pin on tissue needs far less; the tester's load cell range ends near it"};
+constexpr Range kVacuumLoss{0.0, 110.0, true, "kPa", "a pressure rise within the absolute range"};
+
 /// Reads typed values out of one TOML table and turns every problem into a ProtocolError
 /// carrying file, line and the dotted key.
 class TableReader {
@@ -91,6 +129,26 @@ class TableReader {
       fail(t_.get(key), key, fmt::format("must be {} {}, got {}", strict ? ">" : ">=", lo, *v));
     }
     return *v;
+  }
+
+  /// A number within `range` (both ends checked); the error names the value, the accepted
+  /// range and why the range is what it is.
+  double within(std::string_view key, double fallback, const Range& range) const {
+    const auto v = number(key);
+    if (!v) return fallback;
+    check(key, *v, range);
+    return *v;
+  }
+
+  /// Checks a value already read (or derived) against `range`.
+  void check(std::string_view key, double v, const Range& range) const {
+    const bool low = range.lo_open ? !(v > range.lo) : !(v >= range.lo);
+    if (low || !(v <= range.hi)) {
+      fail(t_.get(key), key,
+           fmt::format("must be {} {}, got {}; accepted: {}{}, {}] {} ({})",
+                       low ? (range.lo_open ? ">" : ">=") : "<=", low ? range.lo : range.hi, v,
+                       range.lo_open ? "(" : "[", range.lo, range.hi, range.unit, range.why));
+    }
   }
 
   std::string text(std::string_view key, std::string fallback = {}) const {
@@ -163,7 +221,8 @@ const toml::table* subtable(const toml::table& doc, const std::string& file, std
 }
 
 void parse_steps(const TableReader& r, Protocol& p) {
-  r.only({"displacements_mm", "strains", "vacuum_kPa", "hold_s", "record_s"});
+  r.only({"displacements_mm", "strains", "vacuum_kPa", "hold_s", "record_s", "position_tolerance_mm",
+          "min_sample_fraction", "max_rerecords"});
   const bool has_d = r.get("displacements_mm"), has_s = r.get("strains"), has_v = r.get("vacuum_kPa");
   if (int(has_d) + int(has_s) + int(has_v) != 1) {
     r.fail(nullptr, "displacements_mm",
@@ -201,8 +260,48 @@ void parse_steps(const TableReader& r, Protocol& p) {
     }
     p.steps.push_back(s);
   }
-  p.hold_s = r.bounded("hold_s", p.hold_s, 0.0, false);
-  p.record_s = r.bounded("record_s", p.record_s, 0.0, true);
+  p.hold_s = r.within("hold_s", p.hold_s, kHold);
+  p.record_s = r.within("record_s", p.record_s, kRecord);
+  p.position_tolerance_mm = r.within("position_tolerance_mm", p.position_tolerance_mm, kTolerance);
+  p.min_sample_fraction = r.within("min_sample_fraction", p.min_sample_fraction, kFraction);
+  const double rerecords = r.within("max_rerecords", p.max_rerecords, kRerecords);
+  if (rerecords != std::floor(rerecords))
+    r.fail(r.get("max_rerecords"), "max_rerecords", fmt::format("must be a whole number, got {}", rerecords));
+  p.max_rerecords = static_cast<int>(rerecords);
+}
+
+/// Limits that join keys of different tables, checked once every table is read.
+void check_combinations(const toml::table& doc, const std::string& file, const Protocol& p) {
+  const auto reader_of = [&](std::string_view table) {
+    const auto* t = doc.get(table);
+    return TableReader(t && t->as_table() ? *t->as_table() : doc, file, std::string(table));
+  };
+  // The pin may travel at most max_travel_per_poll_mm between two readings of the tester: that
+  // bounds how far past a load limit or a target it gets before the engine sees it.
+  if (p.kind != StepKind::vacuum) {
+    const double per_poll = p.approach_speed_mm_per_s / p.rates.tester_Hz;
+    if (per_poll > limits::max_travel_per_poll_mm) {
+      const bool rate_given = doc.get("rates") && doc["rates"]["tester_Hz"];
+      const TableReader r = reader_of(rate_given ? "rates" : "motion");
+      const std::string_view key = rate_given ? "tester_Hz" : "approach_speed_mm_per_s";
+      r.fail(
+          r.get(key), key,
+          fmt::format("at {} mm/s and {} Hz the pin travels {:.3g} mm between two tester readings; it must "
+                      "be <= {} mm so that the engine sees a load or position before the pin is past it: "
+                      "raise tester_Hz to >= {:.4g} Hz or lower approach_speed_mm_per_s",
+                      p.approach_speed_mm_per_s, p.rates.tester_Hz, per_poll, limits::max_travel_per_poll_mm,
+                      p.approach_speed_mm_per_s / limits::max_travel_per_poll_mm));
+    }
+  }
+  // A recording window must be long enough to hold power readings.
+  if (p.record_s * p.rates.power_Hz < 1.0) {
+    const TableReader r = reader_of("steps");
+    r.fail(
+        r.get("record_s"), "record_s",
+        fmt::format("a {} s window at power_Hz = {} holds no power reading (T = mean power / baseline); it "
+                    "must be >= 1 / power_Hz = {:.4g} s",
+                    p.record_s, p.rates.power_Hz, 1.0 / p.rates.power_Hz));
+  }
 }
 
 }  // namespace
@@ -228,10 +327,7 @@ Protocol parse_protocol(std::string_view toml_text, const std::string& source_na
     r.only({"tissue", "thickness_mm", "notes"});
     p.sample.tissue = r.text("tissue");
     p.sample.thickness_mm = r.required_number("thickness_mm");
-    if (!(p.sample.thickness_mm > 0.0)) {
-      r.fail(r.get("thickness_mm"), "thickness_mm",
-             fmt::format("must be > 0, got {}", p.sample.thickness_mm));
-    }
+    r.check("thickness_mm", p.sample.thickness_mm, kThickness);
     p.sample.notes = r.text("notes");
   }
   {
@@ -239,7 +335,7 @@ Protocol parse_protocol(std::string_view toml_text, const std::string& source_na
     r.only({"power_W", "measure", "measure_s"});
     p.baseline.power_W = r.number("power_W");
     p.baseline.measure = r.flag("measure", false);
-    p.baseline.measure_s = r.bounded("measure_s", p.baseline.measure_s, 0.0, true);
+    p.baseline.measure_s = r.within("measure_s", p.baseline.measure_s, kMeasureSeconds);
     if (p.baseline.power_W.has_value() == p.baseline.measure) {
       r.fail(nullptr, "power_W", "give either power_W (entered glass-only power) or measure = true");
     }
@@ -248,42 +344,48 @@ Protocol parse_protocol(std::string_view toml_text, const std::string& source_na
              fmt::format("glass-only baseline power must be > 0 W, got {} (T = power / baseline)",
                          *p.baseline.power_W));
     }
+    if (p.baseline.power_W) r.check("power_W", *p.baseline.power_W, kBaselinePower);
   }
   if (const auto* t = subtable(doc, source_name, "motion", false)) {
     const TableReader r(*t, source_name, "motion");
-    r.only({"contact_position_mm", "approach_speed_mm_per_s", "retract_speed_mm_per_s", "tare_load"});
-    p.contact_position_mm = r.bounded("contact_position_mm", p.contact_position_mm, 0.0, false);
-    p.approach_speed_mm_per_s = r.bounded("approach_speed_mm_per_s", p.approach_speed_mm_per_s, 0.0, true);
-    p.retract_speed_mm_per_s = r.bounded("retract_speed_mm_per_s", p.retract_speed_mm_per_s, 0.0, true);
+    r.only({"contact_position_mm", "approach_speed_mm_per_s", "retract_speed_mm_per_s", "tare_load",
+            "on_move_failure"});
+    p.contact_position_mm = r.within("contact_position_mm", p.contact_position_mm, kContact);
+    p.approach_speed_mm_per_s = r.within("approach_speed_mm_per_s", p.approach_speed_mm_per_s, kApproach);
+    p.retract_speed_mm_per_s = r.within("retract_speed_mm_per_s", p.retract_speed_mm_per_s, kRetract);
     p.tare_load = r.flag("tare_load", p.tare_load);
+    const std::string on_fail = r.text("on_move_failure", "pause");
+    if (on_fail != "pause" && on_fail != "interrupt") {
+      r.fail(r.get("on_move_failure"), "on_move_failure",
+             fmt::format("must be \"pause\" or \"interrupt\", got \"{}\"", on_fail));
+    }
+    p.interrupt_on_move_failure = on_fail == "interrupt";
   }
   parse_steps(TableReader(*subtable(doc, source_name, "steps", true), source_name, "steps"), p);
   if (const auto* t = subtable(doc, source_name, "settle", false)) {
     const TableReader r(*t, source_name, "settle");
     r.only({"max_rate", "window_s", "max_wait_s"});
-    p.settle.max_rate = r.bounded("max_rate", p.settle.max_rate, 0.0, true);
-    p.settle.window_s = r.bounded("window_s", p.settle.window_s, 0.0, true);
-    p.settle.max_wait_s = r.bounded("max_wait_s", p.settle.max_wait_s, 0.0, false);
+    p.settle.max_rate = r.within("max_rate", p.settle.max_rate, kSettleRate);
+    p.settle.window_s = r.within("window_s", p.settle.window_s, kSettleWindow);
+    p.settle.max_wait_s = r.within("max_wait_s", p.settle.max_wait_s, kSettleWait);
   }
   if (const auto* t = subtable(doc, source_name, "rates", false)) {
     const TableReader r(*t, source_name, "rates");
     r.only({"tester_Hz", "power_Hz", "pressure_Hz"});
-    p.rates.tester_Hz = r.bounded("tester_Hz", p.rates.tester_Hz, 0.0, true);
-    p.rates.power_Hz = r.bounded("power_Hz", p.rates.power_Hz, 0.0, true);
-    p.rates.pressure_Hz = r.bounded("pressure_Hz", p.rates.pressure_Hz, 0.0, true);
-    for (const char* k : {"tester_Hz", "power_Hz", "pressure_Hz"}) {
-      if (r.number(k, 1.0) > 10000.0) r.fail(r.get(k), k, "must be <= 10000 Hz");
-    }
+    p.rates.tester_Hz = r.within("tester_Hz", p.rates.tester_Hz, kTesterRate);
+    p.rates.power_Hz = r.within("power_Hz", p.rates.power_Hz, kOtherRate);
+    p.rates.pressure_Hz = r.within("pressure_Hz", p.rates.pressure_Hz, kOtherRate);
   }
   if (const auto* t = subtable(doc, source_name, "interlocks", false)) {
     const TableReader r(*t, source_name, "interlocks");
     r.only({"max_load_N", "vacuum_loss_kPa", "power_over_range_pauses", "retract_on_trip"});
-    p.interlocks.max_load_N = r.bounded("max_load_N", p.interlocks.max_load_N, 0.0, true);
-    p.interlocks.vacuum_loss_kPa = r.bounded("vacuum_loss_kPa", p.interlocks.vacuum_loss_kPa, 0.0, true);
+    p.interlocks.max_load_N = r.within("max_load_N", p.interlocks.max_load_N, kMaxLoad);
+    p.interlocks.vacuum_loss_kPa = r.within("vacuum_loss_kPa", p.interlocks.vacuum_loss_kPa, kVacuumLoss);
     p.interlocks.power_over_range_pauses =
         r.flag("power_over_range_pauses", p.interlocks.power_over_range_pauses);
     p.interlocks.retract_on_trip = r.flag("retract_on_trip", p.interlocks.retract_on_trip);
   }
+  check_combinations(doc, source_name, p);
   return p;
 }
 

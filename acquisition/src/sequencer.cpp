@@ -9,12 +9,9 @@
 #include "engine_impl.hpp"
 #include "tocd/core/clock.hpp"
 #include "tocd/core/log.hpp"
+#include "window_check.hpp"
 
 namespace tocd::acquisition {
-
-namespace {
-constexpr double kPositionTolerance_mm = 0.01;
-}
 
 Interrupt Engine::Impl::pending_interrupt() const {
   if (tripped) return Interrupt::trip;
@@ -30,7 +27,7 @@ Interrupt Engine::Impl::wait_until(double max_sim_s, const std::function<bool()>
     if (done && done()) return Interrupt::none;
     const std::int64_t now = monotonic_ns();
     if (observer && now >= next_progress) {
-      observer->on_progress(make_progress());
+      notify([&](EngineObserver& o) { o.on_progress(make_progress()); });
       next_progress = now + static_cast<std::int64_t>(opt.progress_interval_s * 1e9);
     }
     if (now >= real_end) return Interrupt::none;
@@ -43,167 +40,233 @@ Interrupt Engine::Impl::wait_until(double max_sim_s, const std::function<bool()>
   }
 }
 
-void Engine::Impl::send_tester(DriverCommand cmd) {
-  {
-    std::lock_guard lock(cmd_mu);
-    tester_cmds.push_back(std::move(cmd));
+std::uint64_t Engine::Impl::send_tester(std::string what, std::function<void()> cmd) {
+  return tester_cmds.push(std::move(what), std::move(cmd));
+}
+
+void Engine::Impl::send_vacuum(std::string what, std::function<void()> cmd) {
+  vacuum_cmds.push(std::move(what), std::move(cmd));
+}
+
+bool Engine::Impl::wait_command(const CommandQueue& q, std::uint64_t id, double max_real_s) {
+  const std::int64_t end = monotonic_ns() + static_cast<std::int64_t>(max_real_s * 1e9);
+  while (!q.outcome(id) && !tester_lost && !abort_at_once && monotonic_ns() < end) {
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
   }
-  ++tester_commands_sent;  // after the push: a reading tagged with this count follows the command
+  return q.outcome(id).has_value();
 }
 
-void Engine::Impl::send_vacuum(DriverCommand cmd) {
-  std::lock_guard lock(cmd_mu);
-  vacuum_cmds.push_back(std::move(cmd));
-}
-
-bool Engine::Impl::move_and_wait(double position_mm, double speed_mm_per_s, bool interruptible,
-                                 Interrupt& why) {
+MoveResult Engine::Impl::move_and_wait(double position_mm, double speed_mm_per_s, bool interruptible,
+                                       Interrupt& why, std::string& problem) {
+  why = Interrupt::none;
   const double from = latest[kDisplacement] + protocol.contact_position_mm;
   const double travel =
       std::isfinite(from) ? std::abs(position_mm - from) : protocol.sample.thickness_mm + 10.0;
-  send_tester([this, position_mm, speed_mm_per_s] { inst.tester->move_to(position_mm, speed_mm_per_s); });
-  const std::uint64_t my_cmd = tester_commands_sent;
+  const std::string what = fmt::format("move to {:.4f} mm at {} mm/s", position_mm, speed_mm_per_s);
+  const std::uint64_t my_cmd = send_tester(
+      what, [this, position_mm, speed_mm_per_s] { inst.tester->move_to(position_mm, speed_mm_per_s); });
+  // Arrived: the move was carried out (not refused), a reading taken after it says the pin has
+  // stopped, and that reading is within the protocol's tolerance of the target. A stopped pin
+  // anywhere else has not arrived, whatever the tester's at-target bit says.
   bool arrived = false;
-  const auto arrived_fn = [&] {
+  std::optional<std::string> failure;
+  const auto settled_fn = [&] {
+    if (const auto outcome = tester_cmds.outcome(my_cmd); outcome && !outcome->empty()) {
+      failure = *outcome;
+      return true;
+    }
     const double pos = latest[kDisplacement] + protocol.contact_position_mm;
     arrived = tester_commands_applied >= my_cmd && !tester_moving &&
-              (tester_at_target || std::abs(pos - position_mm) <= kPositionTolerance_mm);
+              std::abs(pos - position_mm) <= protocol.position_tolerance_mm;
     return arrived;
   };
   const double timeout = travel / speed_mm_per_s * 1.5 + opt.move_timeout_margin_s;
   if (interruptible) {
-    why = wait_until(timeout, arrived_fn);
+    why = wait_until(timeout, settled_fn);
   } else {
-    why = Interrupt::none;
     const std::int64_t end = monotonic_ns() + clock.real(timeout).count();
-    while (!arrived_fn() && monotonic_ns() < end) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    while (!settled_fn() && !abort_at_once && !tester_lost && monotonic_ns() < end)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
-  return arrived;
+  if (failure) {
+    problem = fmt::format("the mechanical tester did not carry out '{}': {}", what, *failure);
+    return MoveResult::failed;
+  }
+  if (arrived) return MoveResult::arrived;
+  if (why != Interrupt::none) return MoveResult::interrupted;
+  const double pos = latest[kDisplacement] + protocol.contact_position_mm;
+  problem = fmt::format(
+      "the mechanical tester did not reach {:.4f} mm within {} mm in time: at {:.4f} mm, {}", position_mm,
+      protocol.position_tolerance_mm, pos, tester_moving ? "still moving" : "stopped");
+  return MoveResult::timed_out;
+}
+
+Interrupt Engine::Impl::move_failed(const ProtocolStep& step, const std::string& problem) {
+  const std::string why = fmt::format("step {}: {}", step.index + 1, problem);
+  if (protocol.interrupt_on_move_failure) {
+    trip(why);
+    return Interrupt::trip;
+  }
+  request_pause(why);
+  return Interrupt::pause;
+}
+
+Interrupt Engine::Impl::step_incomplete(const ProtocolStep& step, const std::string& problem) {
+  const std::string why = fmt::format("step {} not recorded after {} recording(s): {}", step.index + 1,
+                                      protocol.max_rerecords + 1, problem);
+  request_pause(why);
+  return Interrupt::pause;
 }
 
 Interrupt Engine::Impl::run_step(const ProtocolStep& step) {
   const int n = static_cast<int>(protocol.steps.size());
-  db::StepRecord rec;
-  rec.run_id = run_id;
-  rec.index = step.index;
-  rec.started_t_ns = clock.now_ns();
   const bool vacuum = protocol.kind == StepKind::vacuum;
-  if (vacuum) {
-    rec.target_pressure_kPa = step.pressure_kPa;
-  } else {
-    rec.target_displacement_mm = step.displacement_mm;
-    rec.nominal_strain = step.nominal_strain;
-  }
-  set_state(EngineState::moving,
-            vacuum ? fmt::format("step {}/{}: vacuum to {} kPa", step.index + 1, n, step.pressure_kPa)
-                   : fmt::format("step {}/{}: pin to {} mm", step.index + 1, n, step.displacement_mm));
-  Interrupt why = Interrupt::none;
-  if (vacuum) {
-    seal_watch = false;
-    const double p = step.pressure_kPa;
-    send_vacuum([this, p] {
-      inst.vacuum->set_vent(false);
-      inst.vacuum->set_setpoint_kPa(p);
-      inst.vacuum->run_pump(true);
-    });
-    bool reached = false;
-    why = wait_until(protocol.settle.max_wait_s + opt.move_timeout_margin_s, [&] {
-      reached = std::abs(latest[kPressure] - p) <= opt.vacuum_reached_kPa;
-      return reached;
-    });
-    if (why != Interrupt::none) return why;
-    if (!reached) {
-      trip(fmt::format("vacuum did not reach {} kPa (last {:.2f} kPa)", p, latest[kPressure].load()));
-      return Interrupt::trip;
+  for (int attempt = 0;; ++attempt) {
+    db::StepRecord rec;
+    rec.run_id = run_id;
+    rec.index = step.index;
+    rec.started_t_ns = clock.now_ns();
+    if (vacuum) {
+      rec.target_pressure_kPa = step.pressure_kPa;
+    } else {
+      rec.target_displacement_mm = step.displacement_mm;
+      rec.nominal_strain = step.nominal_strain;
     }
-    seal_setpoint_kPa = p;
-    seal_watch = true;
-  } else {
-    const double target = protocol.contact_position_mm + step.displacement_mm;
-    const bool arrived = move_and_wait(target, protocol.approach_speed_mm_per_s, true, why);
-    if (why != Interrupt::none) return why;
-    if (!arrived) {
-      trip(fmt::format("mechanical tester did not reach position {:.4f} mm in time (at {:.4f} mm)", target,
-                       latest[kDisplacement] + protocol.contact_position_mm));
-      return Interrupt::trip;
+    set_state(EngineState::moving,
+              vacuum ? fmt::format("step {}/{}: vacuum to {} kPa", step.index + 1, n, step.pressure_kPa)
+                     : fmt::format("step {}/{}: pin to {} mm", step.index + 1, n, step.displacement_mm));
+    Interrupt why = Interrupt::none;
+    if (vacuum) {
+      seal_watch = false;
+      const double p = step.pressure_kPa;
+      send_vacuum(fmt::format("vacuum to {} kPa", p), [this, p] {
+        inst.vacuum->set_vent(false);
+        inst.vacuum->set_setpoint_kPa(p);
+        inst.vacuum->run_pump(true);
+      });
+      bool reached = false;
+      why = wait_until(protocol.settle.max_wait_s + opt.move_timeout_margin_s, [&] {
+        reached = std::abs(latest[kPressure] - p) <= opt.vacuum_reached_kPa;
+        return reached;
+      });
+      if (why != Interrupt::none) return why;
+      if (!reached) {
+        trip(fmt::format("vacuum did not reach {} kPa (last {:.2f} kPa)", p, latest[kPressure].load()));
+        return Interrupt::trip;
+      }
+      seal_setpoint_kPa = p;
+      seal_watch = true;
+    } else {
+      const double target = protocol.contact_position_mm + step.displacement_mm;
+      std::string problem;
+      const MoveResult moved = move_and_wait(target, protocol.approach_speed_mm_per_s, true, why, problem);
+      if (moved == MoveResult::interrupted) return why;
+      if (moved != MoveResult::arrived) return move_failed(step, problem);
     }
-  }
 
-  set_state(EngineState::settling, "");
-  const std::int64_t settle_from = clock.now_ns();
-  RateWindow& window = vacuum ? pressure_window : load_window;
-  bool settled = false;
-  double last_rate = std::numeric_limits<double>::quiet_NaN();
-  why = wait_until(protocol.settle.max_wait_s, [&] {
-    const auto rate = window.slope_per_s(clock.now_ns(), protocol.settle.window_s, settle_from);
-    if (rate) last_rate = *rate;
-    settled = rate && std::abs(*rate) < protocol.settle.max_rate;
-    return settled;
-  });
-  if (why != Interrupt::none) return why;
-  rec.settled_t_ns = clock.now_ns();
-  if (!settled) {
+    set_state(EngineState::settling, "");
+    const std::int64_t settle_from = clock.now_ns();
+    RateWindow& window = vacuum ? pressure_window : load_window;
+    bool settled = false;
+    double last_rate = std::numeric_limits<double>::quiet_NaN();
+    why = wait_until(protocol.settle.max_wait_s, [&] {
+      const auto rate = window.slope_per_s(clock.now_ns(), protocol.settle.window_s, settle_from);
+      if (rate) last_rate = *rate;
+      settled = rate && std::abs(*rate) < protocol.settle.max_rate;
+      return settled;
+    });
+    if (why != Interrupt::none) return why;
+    rec.settled_t_ns = clock.now_ns();
+    if (!settled) {
+      emit_event("step",
+                 fmt::format("step {}: not settled after {} s (rate {:.4g} {}/s, limit {}); recording anyway",
+                             step.index + 1, protocol.settle.max_wait_s, last_rate, vacuum ? "kPa" : "N",
+                             protocol.settle.max_rate),
+                 step.index);
+    }
+
+    if (protocol.hold_s > 0) {
+      set_state(EngineState::holding, "");
+      why = wait_until(protocol.hold_s, nullptr);
+      if (why != Interrupt::none) return why;
+    }
+
+    set_state(EngineState::recording, "");
+    const std::uint64_t faults_before = instrument_faults;
+    {
+      std::lock_guard lock(rec_mu);
+      for (auto& s : rec_stats) s.reset();
+      recording = true;
+    }
+    rec.recorded_from_t_ns = clock.now_ns();
+    why = wait_until(protocol.record_s, nullptr);
+    WindowObservation seen;
+    {
+      std::lock_guard lock(rec_mu);
+      recording = false;
+      seen.stats = rec_stats;
+    }
+    seen.faults = instrument_faults - faults_before;
+    rec.recorded_to_t_ns = clock.now_ns();
+    if (why != Interrupt::none) return why;
+    const auto& stats = seen.stats;
+
+    // Only a window that holds up is a measurement; otherwise record it again, or leave the
+    // step without a row and pause.
+    WindowRequirements need;
+    need.record_s = protocol.record_s;
+    const std::array<double, kSlots> rate{protocol.rates.tester_Hz, protocol.rates.tester_Hz,
+                                          protocol.rates.power_Hz, protocol.rates.pressure_Hz};
+    for (int s = 0; s < kSlots; ++s) need.rate_Hz[s] = channel[s] != 0 ? rate[s] : 0.0;
+    need.min_sample_fraction = protocol.min_sample_fraction;
+    if (!vacuum) need.target_displacement_mm = step.displacement_mm;
+    need.position_tolerance_mm = protocol.position_tolerance_mm;
+    need.baseline_W = baseline_W;
+    if (const std::string problem = window_problems(need, seen); !problem.empty()) {
+      if (attempt >= protocol.max_rerecords) return step_incomplete(step, problem);
+      emit_event(
+          "step",
+          fmt::format("step {}: recording window is not a measurement ({}); recording it again ({} of {})",
+                      step.index + 1, problem, attempt + 1, protocol.max_rerecords),
+          step.index);
+      continue;
+    }
+
+    for (int s = 0; s < kSlots; ++s) {
+      if (channel[s] != 0)
+        rec.channels.push_back({channel[s], stats[s].mean(), stats[s].std(), stats[s].n()});
+    }
+    rec.measured_transmission = stats[kPower].mean() / baseline_W;
+    rec.completed = true;
+    db.add_step(rec);
+
+    StepResult r;
+    r.index = step.index;
+    r.step_count = n;
+    r.displacement_mm = step.displacement_mm;
+    r.nominal_strain = step.nominal_strain;
+    r.pressure_kPa = step.pressure_kPa;
+    r.measured_displacement_mm = stats[kDisplacement].mean();
+    r.load_N = stats[kLoad].mean();
+    r.load_std_N = stats[kLoad].std();
+    r.power_W = stats[kPower].mean();
+    r.power_std_W = stats[kPower].std();
+    r.measured_pressure_kPa = stats[kPressure].mean();
+    r.measured_T = rec.measured_transmission;
+    r.samples = stats[kPower].n();
+    r.settled = settled;
     emit_event("step",
-               fmt::format("step {}: not settled after {} s (rate {:.4g} {}/s, limit {}); recording anyway",
-                           step.index + 1, protocol.settle.max_wait_s, last_rate, vacuum ? "kPa" : "N",
-                           protocol.settle.max_rate),
+               fmt::format("step {}/{} recorded: T = {:.5f} ({} power readings), load {:.4f} N",
+                           step.index + 1, n, r.measured_T, r.samples, r.load_N),
                step.index);
+    notify([&](EngineObserver& o) { o.on_step_recorded(r); });
+    if (!vacuum && predictor) {
+      // The model is asked about the displacement the window measured, not the one it aimed at.
+      queue_prediction({run_id, step.index, r.measured_displacement_mm, protocol.sample.thickness_mm,
+                        r.load_N, r.measured_T});
+    }
+    return Interrupt::none;
   }
-
-  if (protocol.hold_s > 0) {
-    set_state(EngineState::holding, "");
-    why = wait_until(protocol.hold_s, nullptr);
-    if (why != Interrupt::none) return why;
-  }
-
-  set_state(EngineState::recording, "");
-  {
-    std::lock_guard lock(rec_mu);
-    for (auto& s : rec_stats) s.reset();
-    recording = true;
-  }
-  rec.recorded_from_t_ns = clock.now_ns();
-  why = wait_until(protocol.record_s, nullptr);
-  std::array<RunningStats, kSlots> stats;
-  {
-    std::lock_guard lock(rec_mu);
-    recording = false;
-    stats = rec_stats;
-  }
-  rec.recorded_to_t_ns = clock.now_ns();
-  if (why != Interrupt::none) return why;
-
-  for (int s = 0; s < kSlots; ++s) {
-    if (channel[s] != 0) rec.channels.push_back({channel[s], stats[s].mean(), stats[s].std(), stats[s].n()});
-  }
-  rec.measured_transmission = stats[kPower].mean() / baseline_W;
-  rec.completed = true;
-  db.add_step(rec);
-
-  StepResult r;
-  r.index = step.index;
-  r.step_count = n;
-  r.displacement_mm = step.displacement_mm;
-  r.nominal_strain = step.nominal_strain;
-  r.pressure_kPa = step.pressure_kPa;
-  r.load_N = stats[kLoad].mean();
-  r.load_std_N = stats[kLoad].std();
-  r.power_W = stats[kPower].mean();
-  r.power_std_W = stats[kPower].std();
-  r.measured_pressure_kPa = stats[kPressure].mean();
-  r.measured_T = rec.measured_transmission;
-  r.samples = stats[kPower].n();
-  r.settled = settled;
-  emit_event("step",
-             fmt::format("step {}/{} recorded: T = {:.5f} ({} power readings), load {:.4f} N", step.index + 1,
-                         n, r.measured_T, r.samples, r.load_N),
-             step.index);
-  if (observer) observer->on_step_recorded(r);
-  if (!vacuum && predictor) {
-    queue_prediction(
-        {run_id, step.index, step.displacement_mm, protocol.sample.thickness_mm, r.load_N, r.measured_T});
-  }
-  return Interrupt::none;
 }
 
 void Engine::Impl::run_sequence() {
@@ -213,10 +276,7 @@ void Engine::Impl::run_sequence() {
     if (inst.tester) load_interlock_armed = true;
     std::size_t i = static_cast<std::size_t>(first_step);
     while (i < protocol.steps.size()) {
-      {
-        std::lock_guard lock(mu);
-        current_step = static_cast<int>(i);
-      }
+      current_step = static_cast<int>(i);
       const Interrupt intr = run_step(protocol.steps[i]);
       if (intr == Interrupt::none) {
         ++i;
@@ -224,26 +284,32 @@ void Engine::Impl::run_sequence() {
       }
       if (intr == Interrupt::pause) {
         std::string reason;
+        bool for_fault = false;
         {
           std::lock_guard lock(mu);
           reason = pause_reason;
+          for_fault = pause_for_fault;
           resume_requested = false;
         }
         seal_watch = false;
         if (inst.tester && !tester_lost) {
           // "paused" means the pin has stopped: wait (bounded) until its poller has sent the stop.
-          send_tester([this] { inst.tester->stop(); });
-          const std::uint64_t stop_cmd = tester_commands_sent;
-          const std::int64_t end = monotonic_ns() + 2'000'000'000;
-          while (tester_commands_applied < stop_cmd && !tester_lost && monotonic_ns() < end) {
-            std::this_thread::sleep_for(std::chrono::microseconds(200));
-          }
+          const std::uint64_t stop_cmd = send_tester("stop", [this] { inst.tester->stop(); });
+          wait_command(tester_cmds, stop_cmd, 2.0);
+        }
+        if (for_fault && opt.unattended) {
+          // Nobody can resume a pause here: end the run interrupted (resumable) instead.
+          final_state = EngineState::interrupted;
+          why = reason +
+                fmt::format("; step {} and later are not recorded (resume the run to redo them)", i + 1);
+          break;
         }
         set_state(EngineState::paused, reason + fmt::format("; step {} will be redone", i + 1));
         std::unique_lock lock(mu);
         cv.wait(lock, [&] { return resume_requested || abort_requested || tripped; });
         if (resume_requested && !abort_requested && !tripped) {
           pause_requested = false;
+          pause_for_fault = false;
           resume_requested = false;
           lock.unlock();
           emit_event("operator", fmt::format("resumed; redoing step {}", i + 1), static_cast<int>(i));
@@ -269,7 +335,7 @@ void Engine::Impl::run_sequence() {
   finish(final_state, why);
 }
 
-void Engine::Impl::finish(EngineState final_state, const std::string& why) {
+void Engine::Impl::finish(EngineState final_state, std::string why) {
   if (final_state == EngineState::aborted) emit_event("operator", "abort: " + why, current_step);
   try {
     set_state(EngineState::retracting, why);
@@ -278,35 +344,66 @@ void Engine::Impl::finish(EngineState final_state, const std::string& why) {
                  current_step);
     } else if (inst.tester) {
       load_interlock_armed = false;  // backing off lowers the load; do not stop the retraction
-      const bool retract = final_state != EngineState::interrupted || protocol.interlocks.retract_on_trip;
-      send_tester([this] { inst.tester->stop(); });
+      const bool retract =
+          (final_state != EngineState::interrupted || protocol.interlocks.retract_on_trip) && !abort_at_once;
+      const std::uint64_t stop_cmd = send_tester("stop", [this] { inst.tester->stop(); });
+      if (tester_limit_latched && retract) {
+        // The tester stopped itself at its limit and refuses moves until cleared; backing off
+        // only lowers the load.
+        send_tester("clear the limit fault to retract", [this] { inst.tester->clear_fault(); });
+      }
       if (retract) {
         Interrupt ignored;
-        if (!move_and_wait(0.0, protocol.retract_speed_mm_per_s, false, ignored)) {
-          emit_event("fault", "pin did not reach home after the run; check the tester", current_step);
+        std::string problem;
+        if (move_and_wait(0.0, protocol.retract_speed_mm_per_s, false, ignored, problem) !=
+            MoveResult::arrived) {
+          emit_event("fault",
+                     abort_at_once ? "retraction cut short by a second abort: the pin was stopped where it is"
+                                   : "pin did not reach home after the run; check the tester" +
+                                         (problem.empty() ? std::string() : ": " + problem),
+                     current_step);
+          if (abort_at_once) send_tester("stop", [this] { inst.tester->stop(); });
         }
+      } else if (abort_at_once) {
+        wait_command(tester_cmds, stop_cmd, 2.0);
+        emit_event("operator",
+                   fmt::format("stopped at once: the pin is left at {:.4f} mm (not retracted)",
+                               latest[kDisplacement] + protocol.contact_position_mm),
+                   current_step);
       }
     }
     if (inst.vacuum && protocol.kind == StepKind::vacuum) {
       seal_watch = false;
-      send_vacuum([this] {
+      send_vacuum("pump off, vent", [this] {
         inst.vacuum->run_pump(false);
         inst.vacuum->set_vent(true);
       });
-      std::this_thread::sleep_for(clock.real(3.0 / protocol.rates.pressure_Hz));
+      if (!abort_at_once) stop_pollers.sleep_for(clock.real(3.0 / protocol.rates.pressure_Hz));
     }
   } catch (const std::exception& e) {
     emit_event("fault", fmt::format("while ending the run: {}", e.what()), current_step);
   }
-  stop_pollers = true;
+  stop_pollers.request();
   for (auto& t : pollers) t.join();
+  // Everything is in the file and the run has its final status before anyone hears of the
+  // final state.
+  writer->stop();
+  // A run whose samples did not all reach the file is not complete, even when every step was
+  // (a commit that failed after the last step, or a full write queue).
+  const db::WriterStats ws = writer->stats();
+  if (const std::uint64_t lost = dropped + ws.failed_samples;
+      lost > 0 && final_state == EngineState::completed) {
+    final_state = EngineState::interrupted;
+    why = fmt::format(
+        "{} sample(s) were not stored ({} refused by the full write queue, {} lost to failed "
+        "commits{}): the run's record is incomplete",
+        lost, dropped.load(), ws.failed_samples, ws.last_error.empty() ? "" : ": " + ws.last_error);
+    emit_event("fault", why, current_step);
+  }
   {
     std::lock_guard lock(mu);
     if (final_state == EngineState::interrupted || final_state == EngineState::failed) error = why;
   }
-  // Everything is in the file and the run has its final status before anyone hears of the
-  // final state.
-  writer->stop();
   const db::RunStatus status = final_state == EngineState::completed ? db::RunStatus::completed
                                : final_state == EngineState::aborted ? db::RunStatus::aborted
                                                                      : db::RunStatus::interrupted;

@@ -137,6 +137,15 @@ bool Reader::is_live(std::int64_t run_id) const {
   return impl_->locks.is_held(run_id);
 }
 
+RunStatus Reader::shown_status(std::int64_t run_id) const {
+  std::lock_guard lk(impl_->mu);
+  const RunRecord r = detail::require_run(impl_->c, run_id);
+  if (r.status != RunStatus::running || impl_->locks.is_held(run_id)) return r.status;
+  // Read again after the lock check: a run that ended in between shows its final status.
+  const RunStatus again = detail::require_run(impl_->c, run_id).status;
+  return again == RunStatus::running ? RunStatus::interrupted : again;
+}
+
 std::optional<InstrumentRecord> Reader::instrument(std::int64_t instrument_id) const {
   for (auto& i : instruments())
     if (i.id == instrument_id) return i;

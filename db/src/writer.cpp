@@ -54,6 +54,7 @@ struct Writer::Impl {
     // A larger page cache keeps the hot ends of the samples table and of its (channel, time)
     // index in memory across batches.
     c.exec("PRAGMA cache_size = -65536");  // KiB: 64 MiB
+    if (opt.max_page_count > 0) c.exec(fmt::format("PRAGMA max_page_count = {}", opt.max_page_count));
     thread = std::thread([this] { loop(); });
   }
 
@@ -124,6 +125,9 @@ struct Writer::Impl {
         st.written += written;
         st.rejected += rejected;
         st.failed += failed;
+        const std::uint64_t failed_samples = failed > 0 ? n : 0;
+        st.failed_samples += failed_samples;
+        const WriterFailure failure{failed_samples, failed > 0 ? evs.size() : 0, st.failed_samples, error};
         st.writer_cpu_seconds = static_cast<double>(cpu.tv_sec) + 1e-9 * static_cast<double>(cpu.tv_nsec);
         if (!error.empty()) st.last_error = error;
         if (failed == 0) {
@@ -137,12 +141,24 @@ struct Writer::Impl {
         processed_items += n + evs.size();
         progress.notify_all();
         lk.unlock();
+        if (failed > 0) report(failure);
       }
       batch.clear();
       batch_events.clear();
       lk.lock();
     }
     stopped = true;
+  }
+
+  void report(const WriterFailure& f) noexcept {
+    if (!opt.on_failure) return;
+    try {
+      opt.on_failure(f);
+    } catch (const std::exception& e) {
+      logger("db")->error("writer: the failure handler threw: {}", e.what());
+    } catch (...) {
+      logger("db")->error("writer: the failure handler threw");
+    }
   }
 
   // Resolve a channel's run once; unknown channels are re-queried (they may have been added
@@ -206,7 +222,7 @@ struct Writer::Impl {
         t.commit();
         failed = 0;
         return;
-      } catch (const DatabaseError& e) {
+      } catch (const std::exception& e) {  // a database error (disk full, ...) or out of memory
         error = e.what();
         logger("db")->error("writer batch of {} rows failed (attempt {}): {}", batch.size() + evs.size(),
                             attempt + 1, error);

@@ -57,7 +57,7 @@ RunListing listing_of(const db::RunSummary& s) {
   l.id = s.run.id;
   l.uuid = qs(s.run.uuid);
   l.name = qs(s.run.name);
-  l.status = QString::fromLatin1(db::to_string(s.run.status).data());
+  l.status = QString::fromLatin1(db::to_string(db::shown_status(s)).data());
   l.operator_name = qs(s.run.operator_name);
   l.started_utc = utc_of(s.run.started_utc_ns);
   l.steps = s.steps;

@@ -58,6 +58,13 @@ void TesterPhysics::step(double h) {
     moving_ = false;
     fault_code_ = m::fault_load_limit;
   }
+  // The travel limit holds during a move too (it may have been lowered after the move began):
+  // the drive stops at it and latches the fault.
+  if (dist > 0.0 && position_ > p_.max_travel_mm) {
+    position_ = p_.max_travel_mm;
+    moving_ = false;
+    fault_code_ = m::fault_travel_limit;
+  }
 }
 
 int TesterPhysics::move(double target_mm, double velocity) {

@@ -73,6 +73,16 @@ class CliRun : public ::testing::Test {
     return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
   }
 
+  /// Like tocdlab(), with `prefix` run by the shell first (limits, traps) in the same process.
+  int tocdlab_in_shell(const std::string& prefix, const std::string& args) {
+    const std::string cmd = fmt::format("sh -c \"{}exec {} {}\" > {} 2> {}", prefix, TOCDLAB_EXE, args,
+                                        (dir_ / "out").string(), (dir_ / "err").string());
+    const int rc = std::system(cmd.c_str());
+    out_ = slurp(dir_ / "out");
+    err_ = slurp(dir_ / "err");
+    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  }
+
   fs::path write(const std::string& name, const std::string& text) {
     std::ofstream(dir_ / name) << text;
     return dir_ / name;
@@ -188,4 +198,57 @@ TEST_F(CliRun, SigintAbortsGracefullyAndTheRunResumes) {
   const tocd::db::Reader r(db);
   EXPECT_EQ(r.runs().size(), 1u);
   EXPECT_EQ(r.steps(1).size(), 3u);
+}
+
+TEST_F(CliRun, AKilledRunIsShownInterruptedByEveryReaderWithoutWritingTheFile) {
+  const auto p = write("p.toml", protocol(60.0));
+  const auto db = dir_ / "lab.db";
+  const std::string out = (dir_ / "out").string();
+  std::string exe = TOCDLAB_EXE, a1 = "run", a2 = p.string(), a3 = "--simulated", a4 = "--clock-factor",
+              a5 = "5", a6 = "--db", a7 = db.string(), a8 = "--no-predict";
+  char* args[] = {exe.data(), a1.data(), a2.data(), a3.data(), a4.data(),
+                  a5.data(),  a6.data(), a7.data(), a8.data(), nullptr};
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  pid_t pid = 0;
+  ASSERT_EQ(posix_spawn(&pid, exe.c_str(), &actions, nullptr, args, environ), 0);
+  posix_spawn_file_actions_destroy(&actions);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (slurp(out).find("recording into") == std::string::npos &&
+         std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  ASSERT_EQ(::kill(pid, SIGKILL), 0);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status));
+
+  ASSERT_EQ(tocdlab(fmt::format("runs --db {}", db.string())), 0) << err_;
+  EXPECT_NE(out_.find("interrupted"), std::string::npos) << out_;
+  EXPECT_EQ(out_.find("running"), std::string::npos) << out_;
+  ASSERT_EQ(tocdlab(fmt::format("compare --db {} --run 1", db.string())), 0) << err_;
+  EXPECT_NE(out_.find("(interrupted)"), std::string::npos) << out_;
+  ASSERT_EQ(tocdlab(fmt::format("compare --db {} --run 1 --json", db.string())), 0) << err_;
+  EXPECT_EQ(nlohmann::json::parse(out_)["run"]["status"], "interrupted") << out_;
+  // The readers presented it; the file still says what the dead process left (the next
+  // writer marks it).
+  const tocd::db::Reader r(db);
+  EXPECT_EQ(r.run(1).status, tocd::db::RunStatus::running);
+  EXPECT_EQ(r.shown_status(1), tocd::db::RunStatus::interrupted);
+}
+
+TEST_F(CliRun, ExitStatusIsNonZeroAndSaysHowManySamplesWereLostWhenTheFileCannotGrow) {
+  const auto p = write("p.toml", protocol(60.0));
+  const auto db = dir_ / "lab.db";
+  // A 2 MiB file-size limit (SIGXFSZ ignored, so writes past it fail as on a full disk):
+  // the database cannot hold the run's samples.
+  const int rc = tocdlab_in_shell(
+      "trap '' XFSZ; ulimit -f 4096; ",
+      fmt::format("run {} --simulated --clock-factor 20 --no-predict --db {}", p.string(), db.string()));
+  EXPECT_EQ(rc, 1) << out_ << err_;
+  EXPECT_NE(err_.find("sample(s) were lost and are not in"), std::string::npos) << err_;
+  EXPECT_NE(err_.find("lost to failed database commits"), std::string::npos) << err_;
+  EXPECT_NE(err_.find("storage: a database commit failed"), std::string::npos) << err_;
 }

@@ -174,3 +174,86 @@ TEST(AcquisitionProtocol, OutOfRangeValues) {
 TEST(AcquisitionProtocol, MissingFileIsAProtocolError) {
   EXPECT_THROW(load_protocol("/nonexistent/protocol.toml"), ProtocolError);
 }
+
+TEST(AcquisitionProtocol, EveryNumberIsBoundedAboveToo) {
+  // Each message names file, line, key, the value, the accepted range and why.
+  struct Case {
+    const char* from;
+    const char* to;
+    const char* expect;
+  };
+  const Case cases[] = {
+      {"hold_s = 2", "hold_s = 1e300",
+       "p.toml:16: [steps] hold_s: must be <= 86400, got 1e+300; accepted: [0, 86400] s"},
+      {"record_s = 3", "record_s = 1e300",
+       "p.toml:17: [steps] record_s: must be <= 3600, got 1e+300; accepted: (0, 3600] s"},
+      {"tester_Hz = 500", "tester_Hz = 1e-300",
+       "p.toml:25: [rates] tester_Hz: must be >= 10, got 1e-300; accepted: [10, 10000] Hz (readings at least "
+       "every "
+       "0.1 s"},
+      {"max_load_N = 30", "max_load_N = 1e300",
+       "p.toml:29: [interlocks] max_load_N: must be <= 500, got 1e+300"},
+      {"approach_speed_mm_per_s = 0.5", "approach_speed_mm_per_s = 25",
+       "p.toml:12: [motion] approach_speed_mm_per_s: must be <= 5, got 25; accepted: (0, 5] mm/s"},
+      {"thickness_mm = 2.0", "thickness_mm = 2000", "[sample] thickness_mm: must be <= 100, got 2000"},
+      {"power_Hz = 20", "power_Hz = 0.01", "[rates] power_Hz: must be >= 1, got 0.01"},
+      {"max_wait_s = 20", "max_wait_s = 1e9", "[settle] max_wait_s: must be <= 3600, got 1000000000"},
+      {"power_W = 1.0e-3", "power_W = 1e300", "[baseline] power_W: must be <= 10, got 1e+300"},
+  };
+  for (const auto& c : cases) {
+    const auto msg = error_of(replace(kGood, c.from, c.to));
+    EXPECT_NE(msg.find(c.expect), std::string::npos) << c.to << " -> " << msg;
+  }
+}
+
+TEST(AcquisitionProtocol, ThePollRateMustBoundTheTravelBetweenReadings) {
+  // 5 mm/s at 50 Hz: 0.1 mm between two readings, over the 0.05 mm bound.
+  const auto msg =
+      error_of(replace(replace(kGood, "approach_speed_mm_per_s = 0.5", "approach_speed_mm_per_s = 5"),
+                       "tester_Hz = 500", "tester_Hz = 50"));
+  EXPECT_NE(msg.find("p.toml:25: [rates] tester_Hz: at 5 mm/s and 50 Hz the pin travels 0.1 mm between two "
+                     "tester readings; it must be <= 0.05 mm"),
+            std::string::npos)
+      << msg;
+  EXPECT_NE(msg.find("raise tester_Hz to >= 100 Hz"), std::string::npos) << msg;
+  // The same speed at 100 Hz is accepted.
+  EXPECT_NO_THROW(
+      parse_protocol(replace(replace(kGood, "approach_speed_mm_per_s = 0.5", "approach_speed_mm_per_s = 5"),
+                             "tester_Hz = 500", "tester_Hz = 100"),
+                     "p.toml"));
+}
+
+TEST(AcquisitionProtocol, ARecordingWindowMustHoldAPowerReading) {
+  const auto msg = error_of(replace(kGood, "record_s = 3", "record_s = 0.01"));
+  EXPECT_NE(msg.find("p.toml:17: [steps] record_s: a 0.01 s window at power_Hz = 20 holds no power reading"),
+            std::string::npos)
+      << msg;
+}
+
+TEST(AcquisitionProtocol, StepValiditySettings) {
+  const Protocol d = parse_protocol(kGood, "p.toml");
+  EXPECT_DOUBLE_EQ(d.position_tolerance_mm, 0.01);
+  EXPECT_DOUBLE_EQ(d.min_sample_fraction, 0.8);
+  EXPECT_EQ(d.max_rerecords, 2);
+  EXPECT_FALSE(d.interrupt_on_move_failure);
+  const Protocol p = parse_protocol(
+      replace(
+          replace(
+              kGood, "record_s = 3",
+              "record_s = 3\nposition_tolerance_mm = 0.02\nmin_sample_fraction = 0.95\nmax_rerecords = 4"),
+          "approach_speed_mm_per_s = 0.5", "approach_speed_mm_per_s = 0.5\non_move_failure = \"interrupt\""),
+      "p.toml");
+  EXPECT_DOUBLE_EQ(p.position_tolerance_mm, 0.02);
+  EXPECT_DOUBLE_EQ(p.min_sample_fraction, 0.95);
+  EXPECT_EQ(p.max_rerecords, 4);
+  EXPECT_TRUE(p.interrupt_on_move_failure);
+  EXPECT_NE(
+      error_of(replace(kGood, "record_s = 3", "record_s = 3\nmax_rerecords = 1.5")).find("whole number"),
+      std::string::npos);
+  EXPECT_NE(error_of(replace(kGood, "record_s = 3", "record_s = 3\nmin_sample_fraction = 1.5"))
+                .find("[steps] min_sample_fraction: must be <= 1, got 1.5"),
+            std::string::npos);
+  EXPECT_NE(error_of(replace(kGood, "approach_speed_mm_per_s = 0.5", "on_move_failure = \"ignore\""))
+                .find("[motion] on_move_failure: must be \"pause\" or \"interrupt\", got \"ignore\""),
+            std::string::npos);
+}

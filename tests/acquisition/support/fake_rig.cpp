@@ -1,6 +1,8 @@
 #include "fake_rig.hpp"
 
+#include <chrono>
 #include <cmath>
+#include <thread>
 
 #include <fmt/format.h>
 
@@ -73,6 +75,8 @@ class FakeTester : public devices::MechanicalTester {
   devices::Identity identity() override { return {"Fake", "Tester", "T-1", "1.0"}; }
   devices::TesterReading read() override {
     ++w_->reads;
+    if (const int us = w_->tester_read_delay_us; us > 0)
+      std::this_thread::sleep_for(std::chrono::microseconds(us));
     if (w_->fail_tester_reads > 0) {
       --w_->fail_tester_reads;
       throw devices::TimeoutError("fake tester", "read position/load", "timed out after 3 retries");
@@ -91,6 +95,12 @@ class FakeTester : public devices::MechanicalTester {
   }
   void move_to(double position_mm, double v) override {
     ++w_->move_calls;
+    if (w_->refuse_moves > 0) {
+      --w_->refuse_moves;
+      throw devices::InstrumentFault("fake tester", "target, velocity, move command",
+                                     "refused with Modbus exception 3 (illegal data value)");
+    }
+    if (position_mm > 0.0) position_mm -= w_->move_short_by_mm;
     std::lock_guard lock(w_->mu);
     const double t = w_->now_s();
     w_->pos0_mm = w_->position_mm_locked(t);
@@ -111,7 +121,11 @@ class FakeTester : public devices::MechanicalTester {
     ++w_->tare_calls;
     w_->tare();
   }
-  void set_limits(double, double) override {}
+  void set_limits(double travel_mm, double load_N) override {
+    ++w_->set_limits_calls;
+    w_->limit_travel_mm = travel_mm;
+    w_->limit_load_N = load_N;
+  }
   void clear_fault() override {}
 
  private:
@@ -137,6 +151,10 @@ class FakePowerMeter : public devices::PowerMeter {
     const double T = w_->transmission(w_->position_mm() - w_->contact_mm, p);
     r.power_W = w_->source_W * T * (1.0 + 1e-4 * noise_(rng_));  // 0.01 % read noise
     r.over_range = w_->power_over_range;
+    if (w_->nan_power_readings > 0) {
+      --w_->nan_power_readings;
+      r.power_W = std::nan("");
+    }
     return r;
   }
 

@@ -39,9 +39,14 @@ struct FakeWorld {
   std::atomic<int> fail_tester_reads{0};
   std::atomic<bool> power_over_range{false};
   std::atomic<bool> seal_lost{false};
+  std::atomic<int> refuse_moves{0};           ///< the next N move commands throw (the tester refuses)
+  std::atomic<int> nan_power_readings{0};     ///< the next N power readings are NaN
+  std::atomic<double> move_short_by_mm{0.0};  ///< moves end this far short of their target
+  std::atomic<int> tester_read_delay_us{0};   ///< each tester read takes this long (real time)
 
   // Counters.
-  std::atomic<int> stop_calls{0}, move_calls{0}, reads{0}, tare_calls{0};
+  std::atomic<int> stop_calls{0}, move_calls{0}, reads{0}, tare_calls{0}, set_limits_calls{0};
+  std::atomic<double> limit_travel_mm{0.0}, limit_load_N{0.0};  ///< last limits written
 
   // State (guarded by mu).
   mutable std::mutex mu;

@@ -92,6 +92,35 @@ TEST(SimulatedLab, FaultHooksReachTheirInstruments) {
   EXPECT_THROW(in.power_meter->set_averaging(10), devices::DeviceError);
 }
 
+TEST(SimulatedLab, TheTesterEnforcesTheLimitsWrittenToItWhateverItsClientPolls) {
+  mocks::SimulatedLab lab(fast());
+  devices::LabInstruments in = devices::open_lab(lab.config());
+  // A target beyond the travel limit is refused on the wire.
+  in.tester->set_limits(3.0, 50.0);
+  EXPECT_THROW(in.tester->move_to(3.5, 1.0), devices::DeviceError);
+  // A limit lowered under a move already going stops the pin at it, with the travel fault.
+  in.tester->move_to(2.9, 1.0);
+  in.tester->set_limits(2.0, 50.0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));  // 5 s simulated, unpolled
+  const auto r = settle(*in.tester);
+  EXPECT_NEAR(r.position_mm, 2.0, 1e-6);
+  EXPECT_TRUE(r.status.limit);
+  EXPECT_EQ(r.status.fault_code, 2);
+  // The load limit stops the pin inside the sample (contact at 1 mm) with the load fault.
+  in.tester->clear_fault();
+  in.tester->move_to(0.0, 5.0);
+  settle(*in.tester);
+  in.tester->set_limits(10.0, 1.0);
+  in.tester->move_to(2.5, 1.0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  const auto l = settle(*in.tester);
+  EXPECT_TRUE(l.status.limit);
+  EXPECT_EQ(l.status.fault_code, 1);
+  EXPECT_GT(l.position_mm, 1.0);
+  EXPECT_LT(l.position_mm, 2.5);
+  EXPECT_LT(l.load_N, 1.0 + 0.05);
+}
+
 TEST(SimulatedLab, ClockFactorMakesTheProtocolFast) {
   mocks::SimulatedLab lab(fast());
   devices::LabInstruments in = devices::open_lab(lab.config());

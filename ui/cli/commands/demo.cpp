@@ -126,6 +126,7 @@ void run_demo(const DemoOptions& o) {
   acq::EngineOptions eo;
   eo.clock_factor = o.clock_factor;
   eo.operator_name = "tocdlab demo";
+  eo.unattended = true;  // a fault ends the demo run (interrupted) rather than pausing it for good
   eo.lab_config_text = "# simulated lab (tocdlab demo)\n" + tocd::devices::to_toml(lab_cfg);
   tocd::cli::TerminalProgress progress(std::cout, ::isatty(STDOUT_FILENO) != 0);
   acq::EngineState final_state;

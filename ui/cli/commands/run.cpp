@@ -88,10 +88,12 @@ void run_protocol(const RunOptions& o) {
   eo.clock_factor = o.clock_factor;
   eo.operator_name = o.operator_name;
   eo.lab_config_text = lab_text;
+  eo.unattended = true;  // nobody can resume a pause from here: a fault ends the run, resumable
   tocd::cli::TerminalProgress progress(std::cout, ::isatty(STDOUT_FILENO) != 0);
   acq::EngineState final_state;
   std::int64_t run_id = 0;
   std::string error;
+  acq::EngineStats stats;
   {
     std::shared_ptr<acq::StepPredictor> predictor;
     if (!o.no_predict && protocol.kind != acq::StepKind::vacuum) {
@@ -108,22 +110,36 @@ void run_protocol(const RunOptions& o) {
               << std::endl;
     final_state = engine.wait();
     error = engine.error();
+    stats = engine.stats();
     signals.attach(nullptr);
   }
   std::cout << '\n' << acq::format_compare_table(acq::compare_table(tocd::db::Reader(o.db), run_id));
   const std::string again = fmt::format("tocdlab run --resume {} --db {} {}", run_id, o.db,
                                         o.simulated ? std::string("--simulated") : "--lab " + o.lab);
+  // Exit status (docs/acquisition.md): 0 only when the run completed or the operator aborted
+  // it and every sample reached the file.
+  const std::uint64_t lost = stats.samples_dropped + stats.writer.failed_samples;
+  const std::string lost_text =
+      lost == 0 ? std::string()
+                : fmt::format(
+                      "{} sample(s) were lost and are not in {} ({} refused by the full write queue, {} "
+                      "lost to failed database commits{})",
+                      lost, o.db, stats.samples_dropped, stats.writer.failed_samples,
+                      stats.writer.last_error.empty() ? "" : ": " + stats.writer.last_error);
   switch (final_state) {
     case acq::EngineState::completed:
       std::cout << fmt::format("run {} completed\n", run_id);
       break;
     case acq::EngineState::aborted:
-      std::cout << fmt::format("run {} aborted; all data kept. Continue it with: {}\n", run_id, again);
+      std::cout << fmt::format("run {} aborted; {}. Continue it with: {}\n", run_id,
+                               lost == 0 ? "all data kept" : "data kept as far as stored", again);
       break;
     default:
-      throw tocd::Error(fmt::format("run {} {}: {}. Continue it with: {}", run_id,
-                                    acq::to_string(final_state), error, again));
+      throw tocd::Error(fmt::format("run {} {}: {}{}. Continue it with: {}", run_id,
+                                    acq::to_string(final_state), error, lost == 0 ? "" : "; " + lost_text,
+                                    again));
   }
+  if (lost > 0) throw tocd::Error(fmt::format("run {}: {}", run_id, lost_text));
 }
 
 void install_run(CLI::App& root) {

@@ -76,6 +76,7 @@ struct AbortOnSignal::Impl {
   sigset_t set{}, old{};
   std::atomic<acquisition::Engine*> engine{nullptr};
   std::atomic<bool> done{false}, pending{false};
+  int signals_seen = 0;  // watcher thread only
   std::thread watcher;
 };
 
@@ -89,11 +90,18 @@ AbortOnSignal::AbortOnSignal(std::ostream& err) : impl_(new Impl) {
     while (!impl_->done) {
       const int sig = sigtimedwait(&impl_->set, nullptr, &slice);
       if (sig != SIGINT && sig != SIGTERM) continue;
+      const char* name = sig == SIGINT ? "SIGINT" : "SIGTERM";
       if (auto* e = impl_->engine.load()) {
-        err << "\n"
-            << (sig == SIGINT ? "SIGINT" : "SIGTERM") << ": aborting (retracting the pin, keeping the data)"
-            << std::endl;
-        e->abort(sig == SIGINT ? "SIGINT (Ctrl-C)" : "SIGTERM");
+        if (++impl_->signals_seen == 1) {
+          err << "\n"
+              << name << ": aborting (retracting the pin, keeping the data); again to stop the pin at once"
+              << std::endl;
+          e->abort(sig == SIGINT ? "SIGINT (Ctrl-C)" : "SIGTERM");
+        } else {
+          // The operator will not wait for the retraction: stop the pin where it is and end.
+          err << "\n" << name << " again: stopping the pin where it is, no retraction" << std::endl;
+          e->stop_now(sig == SIGINT ? "second SIGINT (Ctrl-C)" : "second SIGTERM");
+        }
       } else {
         impl_->pending = true;  // before the run started: abort it as soon as it exists
       }

@@ -33,7 +33,8 @@ class TerminalProgress : public acquisition::EngineObserver {
 
 /// Blocks SIGINT and SIGTERM in the calling thread (and so in every thread it starts later) and
 /// turns them into engine.abort() from a watcher thread, so Ctrl-C retracts the pin and keeps
-/// the data. Restores the signal mask when destroyed.
+/// the data; a second signal calls engine.stop_now() (the pin stops where it is, no
+/// retraction). Restores the signal mask when destroyed.
 class AbortOnSignal {
  public:
   explicit AbortOnSignal(std::ostream& err);

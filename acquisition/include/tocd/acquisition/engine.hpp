@@ -64,12 +64,13 @@ struct StepResult {
   int index = 0;
   int step_count = 0;
   double displacement_mm = 0, nominal_strain = 0, pressure_kPa = 0;  ///< targets
-  double load_N = 0, load_std_N = 0;                                 ///< NaN without a tester
-  double power_W = 0, power_std_W = 0;                               ///< mean / std over the recording window
-  double measured_pressure_kPa = 0;                                  ///< NaN without a vacuum controller
-  double measured_T = 0;                                             ///< power / baseline power
-  std::int64_t samples = 0;                                          ///< power samples in the window
-  bool settled = true;                                               ///< false: max_wait_s ran out first
+  double measured_displacement_mm = 0;  ///< mean over the recording window (NaN without a tester)
+  double load_N = 0, load_std_N = 0;    ///< NaN without a tester
+  double power_W = 0, power_std_W = 0;  ///< mean / std over the recording window
+  double measured_pressure_kPa = 0;     ///< NaN without a vacuum controller
+  double measured_T = 0;                ///< power / baseline power
+  std::int64_t samples = 0;             ///< power samples in the window
+  bool settled = true;                  ///< false: max_wait_s ran out first
 };
 
 /// Where a running protocol is, for progress lines and status bars.
@@ -88,6 +89,7 @@ struct Progress {
 /// prediction worker), possibly several at once, never while the engine holds a lock the
 /// callback could need: a callback may call Engine::pause/resume/abort/state/progress, but
 /// must not block for long (the poller that called it waits) and must not call wait().
+/// Whatever a callback throws is logged and dropped (it never stops an engine thread).
 /// A Qt GUI forwards them with queued signals. The default implementations do nothing.
 class EngineObserver {
  public:
@@ -127,6 +129,10 @@ struct EngineOptions {
   double progress_interval_s = 0.2;
   /// Tolerance to call a vacuum setpoint reached (kPa).
   double vacuum_reached_kPa = 1.0;
+  /// No operator can resume a pause (a command-line run): a pause for a fault (refused move,
+  /// step left incomplete, seal loss, over-range) ends the run interrupted instead, resumable
+  /// with resume(run_id). Operator pauses still pause.
+  bool unattended = false;
 };
 
 /// Counts for tests and status lines.
@@ -148,7 +154,14 @@ struct EngineStats {
 /// Interlocks are checked by the pollers on every reading: a load above max_load_N (or the
 /// tester reporting a limit or fault) stops the motion at once from the poller, records an
 /// "interlock" event, retracts the pin (when configured) and ends the run `interrupted`;
-/// a vacuum loss in a vacuum run, or a power reading over range, pauses the run.
+/// a vacuum loss in a vacuum run, or a power reading over range, pauses the run. The load
+/// limit and a travel limit are also written into the tester's own limit registers at start
+/// and on resume, so the instrument stops itself whatever the poll rate.
+///
+/// A step is recorded only when its move was carried out and ended within the protocol's
+/// position tolerance, and its recording window was fault-free with enough readings;
+/// otherwise it is recorded again (bounded) or left without a row and the run pauses
+/// (docs/acquisition.md).
 ///
 /// All public methods are thread-safe.
 class Engine {
@@ -176,6 +189,10 @@ class Engine {
   void resume();
   /// Stops motion, retracts the pin, keeps every sample; the run ends `aborted`.
   void abort(const std::string& reason = "operator abort");
+  /// Like abort(), but at once: the pin is stopped where it is and not retracted (a second
+  /// Ctrl-C, or an abort whose retraction must not be waited for). Also cuts short a
+  /// retraction already under way.
+  void stop_now(const std::string& reason = "operator stop");
 
   /// Blocks until the run has ended and every prediction has landed; returns the final state.
   EngineState wait();

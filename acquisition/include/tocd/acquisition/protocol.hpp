@@ -17,6 +17,18 @@ class ProtocolError : public ConfigError {
   using ConfigError::ConfigError;
 };
 
+/// Limits of protocol numbers that the engine and its tests rely on (docs/acquisition.md has
+/// the range of every key).
+namespace limits {
+/// The pin travels at most this far between two tester readings (approach speed / tester_Hz).
+inline constexpr double max_travel_per_poll_mm = 0.05;
+inline constexpr double max_approach_speed_mm_per_s = 5.0;
+inline constexpr double max_retract_speed_mm_per_s = 20.0;
+inline constexpr double min_tester_Hz = 10.0;
+inline constexpr double min_instrument_Hz = 1.0;  ///< power meter and vacuum controller
+inline constexpr double max_load_N = 500.0;
+}  // namespace limits
+
 /// What is under the pin.
 struct SampleInfo {
   std::string tissue;
@@ -88,8 +100,19 @@ struct Protocol {
   double retract_speed_mm_per_s = 2.0;   ///< pin speed when retracting (abort, trip, end)
   /// Zero the load cell when a pin run starts, if the pin is clear of the sample then.
   bool tare_load = true;
+  /// A move the tester refuses or that fails: pause the run (false) or end it interrupted.
+  bool interrupt_on_move_failure = false;
   double hold_s = 0.0;    ///< wait after settling, before recording
   double record_s = 1.0;  ///< recording window per step
+  /// A pin step is recorded only when the mean displacement over its window is this close to
+  /// the target (vacuum steps: EngineOptions::vacuum_reached_kPa).
+  double position_tolerance_mm = 0.01;
+  /// ...and every recorded channel got at least this fraction of the readings its rate
+  /// promises over the window, with no instrument fault during it.
+  double min_sample_fraction = 0.8;
+  /// A window that fails those checks is recorded again this many times; then the step stays
+  /// without a row and the run pauses.
+  int max_rerecords = 2;
   SettleCriterion settle;
   SamplingRates rates;
   Interlocks interlocks;

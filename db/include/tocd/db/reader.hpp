@@ -20,6 +20,12 @@ struct RunSummary {
   bool live = false;  // a process holds the run's recording lock right now
 };
 
+/// shown_status for a listing entry: `interrupted` for a run stored as running that no live
+/// process records.
+inline RunStatus shown_status(const RunSummary& s) {
+  return s.run.status == RunStatus::running && !s.live ? RunStatus::interrupted : s.run.status;
+}
+
 enum class Decimation {
   none,     // every sample in the range
   mean,     // one point per time bucket: mean time, mean value
@@ -63,6 +69,11 @@ class Reader {
   RunRecord run(std::int64_t run_id) const;  // DatabaseError when absent
   std::vector<RunAnchor> anchors(std::int64_t run_id) const;
   bool is_live(std::int64_t run_id) const;
+  /// The status to show for a run: one stored as `running` whose recording lock nobody holds
+  /// was left by a dead process (kill -9, power loss) and is shown as `interrupted`, which is
+  /// what the next writer to open the file stores (a reader never writes). run() and runs()
+  /// return the stored status.
+  RunStatus shown_status(std::int64_t run_id) const;
 
   std::optional<InstrumentRecord> instrument(std::int64_t instrument_id) const;
   std::vector<InstrumentRecord> instruments() const;

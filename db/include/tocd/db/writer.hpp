@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -13,6 +14,14 @@ namespace tocd::db {
 
 class Database;
 
+/// A batch the writer could not commit (after its retries): its rows are lost.
+struct WriterFailure {
+  std::uint64_t samples = 0;        ///< samples of this batch
+  std::uint64_t events = 0;         ///< events of this batch
+  std::uint64_t samples_total = 0;  ///< samples lost to failed commits so far
+  std::string error;                ///< the database's message (e.g. "database or disk is full")
+};
+
 struct WriterOptions {
   /// A batch is committed at the latest this long after its first row was enqueued...
   std::chrono::milliseconds batch_interval{100};
@@ -20,15 +29,22 @@ struct WriterOptions {
   std::size_t batch_rows = 50000;
   /// Rows that may wait in memory; beyond it enqueue drops the row and counts it.
   std::size_t queue_capacity = 2'000'000;
+  /// Called on the writer thread, without its lock held, after each batch that could not be
+  /// committed. Must return quickly; whatever it throws is logged and dropped.
+  std::function<void(const WriterFailure&)> on_failure;
+  /// Largest size the writer lets the file grow to, in database pages (PRAGMA max_page_count
+  /// on its connection); 0 = no limit. A commit beyond it fails like a full disk.
+  std::uint64_t max_page_count = 0;
 };
 
 struct WriterStats {
-  std::uint64_t enqueued = 0;  // accepted by enqueue
-  std::uint64_t written = 0;   // committed to the file
-  std::uint64_t dropped = 0;   // refused by enqueue because the queue was full
-  std::uint64_t rejected = 0;  // not storable (unknown channel or run id); see last_error
-  std::uint64_t failed = 0;    // lost to a database error (disk full, ...); see last_error
-  std::uint64_t batches = 0;   // committed transactions
+  std::uint64_t enqueued = 0;        // accepted by enqueue
+  std::uint64_t written = 0;         // committed to the file
+  std::uint64_t dropped = 0;         // refused by enqueue because the queue was full
+  std::uint64_t rejected = 0;        // not storable (unknown channel or run id); see last_error
+  std::uint64_t failed = 0;          // lost to a database error (disk full, ...); see last_error
+  std::uint64_t failed_samples = 0;  // the samples among `failed`
+  std::uint64_t batches = 0;         // committed transactions
   std::size_t queue_depth = 0;
   std::size_t queue_high_water = 0;
   double last_batch_ms = 0, mean_batch_ms = 0, max_batch_ms = 0;  // commit latency per batch
