@@ -364,8 +364,8 @@ std::vector<Cell> cells() {
 
 }  // namespace
 
-INSTANTIATE_TEST_SUITE_P(Cells, FaultMatrix, ::testing::ValuesIn(cells()), [](const auto& info) {
-  std::string n = info.param.fault + "_" + name(info.param.phase);
+INSTANTIATE_TEST_SUITE_P(Cells, FaultMatrix, ::testing::ValuesIn(cells()), [](const auto& cell) {
+  std::string n = cell.param.fault + "_" + name(cell.param.phase);
   for (auto& c : n)
     if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
   return n;

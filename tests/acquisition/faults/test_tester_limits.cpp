@@ -119,4 +119,4 @@ TEST_P(TesterLimits, LoadOvershootStaysWithinOneControlStepAtTheSlowestPollAndFa
 INSTANTIATE_TEST_SUITE_P(Corners, TesterLimits,
                          ::testing::Values(Corner{limits::max_approach_speed_mm_per_s, 100.0},
                                            Corner{0.5, limits::min_tester_Hz}),
-                         [](const auto& info) { return fmt::format("at_{}_Hz", info.param.tester_Hz); });
+                         [](const auto& corner) { return fmt::format("at_{}_Hz", corner.param.tester_Hz); });
