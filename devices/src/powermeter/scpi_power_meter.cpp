@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "tocd/core/clock.hpp"
+#include "tocd/core/printable.hpp"
 #include "tocd/devices/power_meter_drivers.hpp"
 #include "tocd/devices/usbtmc.hpp"
 
@@ -75,14 +76,16 @@ Identity ScpiPowerMeter::identity() {
     throw ProtocolError(
         client_.instrument(), "*IDN?",
         fmt::format("expected \"vendor,model,serial,firmware\", the answer was \"{}\"", answer));
-  return {fields[0], fields[1], fields[2], fields[3]};
+  // The client admits printable ASCII and tabs only; the tabs go too (see printable_text).
+  return {printable_text(fields[0]), printable_text(fields[1]), printable_text(fields[2]),
+          printable_text(fields[3])};
 }
 
 std::string ScpiPowerMeter::sensor_identity() {
   std::string s = client_.query("SYST:SENS:IDN?");
   if (s.empty())
     throw ProtocolError(client_.instrument(), "SYST:SENS:IDN?", "empty answer (no sensor attached?)");
-  return s;
+  return printable_text(s);
 }
 
 void ScpiPowerMeter::set_wavelength_nm(double nm) {
