@@ -31,8 +31,9 @@ struct Reader::Impl {
     for (const auto& w : warnings) logger("db")->warn("{}", w);
   }
 
-  // SQLite's quick_check reads every page once (about 0.1 s per 100 MB) and finds damaged
-  // b-trees and pages; the full integrity_check also cross-checks indexes and is far slower.
+  // SQLite's quick_check reads every page once and finds damaged b-trees and pages; the full
+  // integrity_check also cross-checks indexes. On a 100 MB file (warm cache, busy machine)
+  // quick_check took 0.7 s and integrity_check 4.8 s.
   std::string quick_check(const std::filesystem::path& p) const {
     std::vector<std::string> found;
     try {
