@@ -91,7 +91,9 @@ ModbusLink::ModbusLink(std::string instrument, const Tcp& tcp, const ModbusOptio
     throw ConfigError(fmt::format("{}: cannot make a Modbus TCP context for {}", instrument_, a.host));
   modbus_set_slave(ctx_, a.slave_id);
   set_timeout(ctx_, options_.timeout_s, false);
-  set_timeout(ctx_, std::min(options_.timeout_s, 0.1), true);
+  // The AnswerDeadline bounds the whole answer; a shorter per-byte limit would only fail
+  // answers that arrive in time but in pieces (a 100 ms stall of a busy machine did).
+  set_timeout(ctx_, options_.timeout_s, true);
   modbus_set_error_recovery(ctx_, MODBUS_ERROR_RECOVERY_NONE);
 }
 
