@@ -4,6 +4,7 @@
 #include <string>
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include "rows.hpp"
 #include "run_lock.hpp"
@@ -24,6 +25,7 @@ struct Database::Impl {
   detail::Connection c;
   detail::RunLocks locks;
   std::vector<std::int64_t> interrupted;
+  std::string journal_mode;
   mutable std::mutex mu;
 
   Impl(const std::filesystem::path& p, detail::Connection conn)
@@ -79,12 +81,30 @@ Database Database::open(const std::filesystem::path& path) {
   return Database(path);
 }
 
+namespace {
+
+// Recording needs the file and, for WAL's -wal and -shm files, its directory writable. Said
+// up front, instead of SQLite's "attempt to write a readonly database" halfway through.
+void require_writable(const std::filesystem::path& path) {
+  const auto dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+  const bool file_ok = !std::filesystem::exists(path) || ::access(path.c_str(), W_OK) == 0;
+  if (!file_ok || ::access(dir.c_str(), W_OK) != 0)
+    throw DatabaseError(
+        fmt::format("'{}' cannot be written here ({} is read-only); commands that only read it "
+                    "(runs, compare, export) still can",
+                    path.string(), file_ok ? "its directory" : "the file"));
+}
+
+}  // namespace
+
 Database::Database(const std::filesystem::path& path) {
   detail::identify(path);  // refuses foreign and newer files before anything is written
+  require_writable(path);
   detail::Connection c(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
-  detail::configure_read_write(c);
+  std::string journal_mode = detail::configure_read_write(c);
   detail::migrate(c);
   impl_ = std::make_unique<Impl>(path, std::move(c));
+  impl_->journal_mode = std::move(journal_mode);
   impl_->mark_interrupted();
 }
 
@@ -99,6 +119,10 @@ const std::filesystem::path& Database::path() const noexcept {
 int Database::schema_version() const {
   std::lock_guard lk(impl_->mu);
   return static_cast<int>(impl_->c.query_int("PRAGMA user_version"));
+}
+
+const std::string& Database::journal_mode() const noexcept {
+  return impl_->journal_mode;
 }
 
 const std::vector<std::int64_t>& Database::interrupted_on_open() const noexcept {

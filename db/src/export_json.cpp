@@ -147,7 +147,9 @@ void write_json(const Reader& reader, std::int64_t run_id, const JsonExportOptio
                            {"summary", parsed_or_text(p.summary_json)}});
   }
   doc["predictions"] = predictions;
-  out << doc.dump(opt.indent) << '\n';
+  // Text in the file may predate the printable_text cleaning at the instrument drivers (or the
+  // file came from elsewhere): invalid UTF-8 becomes U+FFFD instead of failing the export.
+  out << doc.dump(opt.indent, ' ', false, json::error_handler_t::replace) << '\n';
 }
 
 }  // namespace tocd::db

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "tocd/core/clock.hpp"
+#include "tocd/core/log.hpp"
 #include "tocd/core/version.hpp"
 
 namespace tocd::db::detail {
@@ -78,7 +79,8 @@ FileIdentity identify(const std::filesystem::path& path) {
     throw DatabaseError("'" + path.string() + "' is not a regular file, so not a tocdlab database");
   if (fs::file_size(path, ec) == 0 && !ec) return {true, 0};
 
-  Connection c(path, SQLITE_OPEN_READONLY);
+  std::string note;  // opened immutable: the caller that keeps a connection says so
+  Connection c = open_existing_read_only(path, note);
   const std::string name = "'" + path.string() + "'";
   std::int64_t app_id = 0, version = 0, objects = 0;
   try {
@@ -104,11 +106,24 @@ FileIdentity identify(const std::filesystem::path& path) {
   return {false, static_cast<int>(version)};
 }
 
-void configure_read_write(const Connection& c) {
+std::string configure_read_write(const Connection& c) {
   // WAL: readers and the writer never block each other. synchronous=NORMAL: a commit is
   // durable against a process crash; an OS crash / power loss may undo the last commits
   // (never corrupt). See docs/database.md, "Durability".
-  c.exec("PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL; PRAGMA foreign_keys=ON;");
+  std::string mode;
+  {
+    Statement s(c, "PRAGMA journal_mode=WAL");  // answers the mode now in force
+    if (s.step()) mode = s.col_text(0);
+  }
+  if (mode != "wal") {
+    // SQLite keeps the old mode where WAL is impossible (no shared memory, some network file
+    // systems). Recording still works, but readers then block the writer: say so.
+    const char* file = sqlite3_db_filename(c.get(), "main");
+    logger("db")->warn("'{}': journal mode is '{}', not WAL; readers will briefly block recording",
+                       file ? file : "", mode);
+  }
+  c.exec("PRAGMA synchronous=NORMAL; PRAGMA foreign_keys=ON;");
+  return mode;
 }
 
 int migrate(const Connection& c) {
@@ -138,7 +153,7 @@ int migrate(const Connection& c) {
   return found;
 }
 
-Connection open_read_only(const std::filesystem::path& path) {
+Connection open_read_only(const std::filesystem::path& path, std::string* note) {
   if (!std::filesystem::exists(path)) throw DatabaseError("no database at '" + path.string() + "'");
   const FileIdentity id = identify(path);
   if (id.is_new) throw DatabaseError("'" + path.string() + "' is an empty file, not a tocdlab database");
@@ -147,7 +162,10 @@ Connection open_read_only(const std::filesystem::path& path) {
         fmt::format("'{}' has schema version {} (current {}): open it once read-write with this tocdlab "
                     "to upgrade it",
                     path.string(), id.schema_version, Database::kSchemaVersion));
-  return Connection(path, SQLITE_OPEN_READONLY);
+  std::string opened;
+  Connection c = open_existing_read_only(path, opened);
+  if (note) *note = opened;
+  return c;
 }
 
 }  // namespace tocd::db::detail

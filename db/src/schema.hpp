@@ -3,6 +3,7 @@
 // Schema of a tocdlab database, its migrations, and the check that a file is one.
 
 #include <filesystem>
+#include <string>
 
 #include "sqlite_util.hpp"
 
@@ -22,10 +23,12 @@ FileIdentity identify(const std::filesystem::path& path);
 /// Returns the version found before migrating.
 int migrate(const Connection& c);
 
-/// Settings every read-write connection uses (WAL, synchronous=NORMAL, foreign keys).
-void configure_read_write(const Connection& c);
+/// Settings every read-write connection uses (WAL, synchronous=NORMAL, foreign keys). Returns
+/// the journal mode in force ("wal" unless SQLite could not switch; then a warning is logged).
+std::string configure_read_write(const Connection& c);
 
-/// Opens a read-only connection to an existing tocdlab database of the current schema.
-Connection open_read_only(const std::filesystem::path& path);
+/// Opens a read-only connection to an existing tocdlab database of the current schema. When
+/// given, `note` receives what open_existing_read_only says about an immutable open ("" else).
+Connection open_read_only(const std::filesystem::path& path, std::string* note = nullptr);
 
 }  // namespace tocd::db::detail

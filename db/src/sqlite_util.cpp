@@ -1,7 +1,9 @@
 #include "sqlite_util.hpp"
 
+#include <cctype>
 #include <cmath>
 #include <string>
+#include <system_error>
 
 namespace tocd::db::detail {
 
@@ -19,6 +21,17 @@ Connection::Connection(const std::filesystem::path& path, int flags, int busy_ti
   }
   sqlite3_extended_result_codes(db_, 1);
   sqlite3_busy_timeout(db_, busy_timeout_ms);
+  // Database files come from anywhere (a colleague, a download): SQLite's defensive mode
+  // refuses schema edits that can corrupt a file on purpose, and with trusted_schema off a
+  // view or trigger planted in the file cannot call functions with side effects.
+  int defensive = 0;
+  if (sqlite3_db_config(db_, SQLITE_DBCONFIG_DEFENSIVE, 1, &defensive) != SQLITE_OK || defensive != 1 ||
+      sqlite3_exec(db_, "PRAGMA trusted_schema=OFF", nullptr, nullptr, nullptr) != SQLITE_OK) {
+    const std::string msg = sqlite3_errmsg(db_);
+    sqlite3_close(db_);
+    db_ = nullptr;
+    throw DatabaseError("cannot open database '" + path.string() + "' in defensive mode: " + msg);
+  }
 }
 
 Connection::~Connection() {
@@ -41,6 +54,48 @@ void Connection::exec(const std::string& sql) const {
     sqlite3_free(err);
     throw DatabaseError("database statement failed (" + sql.substr(0, 60) + "): " + msg);
   }
+}
+
+namespace {
+
+// A file: URI for `path` (RFC 3986 escapes for everything but unreserved characters and '/').
+std::string file_uri(const std::filesystem::path& path) {
+  static constexpr char kHex[] = "0123456789ABCDEF";
+  std::string out = "file:";
+  for (const unsigned char c : std::filesystem::absolute(path).string()) {
+    if (std::isalnum(c) || c == '/' || c == '-' || c == '.' || c == '_' || c == '~') {
+      out += static_cast<char>(c);
+    } else {
+      out += '%';
+      out += kHex[c >> 4];
+      out += kHex[c & 0xF];
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+Connection open_existing_read_only(const std::filesystem::path& path, std::string& note) {
+  Connection c(path, SQLITE_OPEN_READONLY);
+  // SQLite opens lazily: the first read shows whether the file can be read at all.
+  if (sqlite3_exec(c.get(), "SELECT count(*) FROM sqlite_master", nullptr, nullptr, nullptr) == SQLITE_OK)
+    return c;
+  const int primary = sqlite3_extended_errcode(c.get()) & 0xFF;
+  if (primary != SQLITE_READONLY && primary != SQLITE_CANTOPEN) return c;  // the caller reports it
+  // A WAL database needs its -shm index file, which a reader cannot create in a directory it
+  // may not write. immutable=1 reads the main file alone; nothing can be writing it there.
+  Connection immutable(file_uri(path) + "?mode=ro&immutable=1", SQLITE_OPEN_READONLY | SQLITE_OPEN_URI);
+  std::error_code ec;
+  const auto wal = std::filesystem::path(path.string() + "-wal");
+  const auto wal_bytes = std::filesystem::exists(wal, ec) ? std::filesystem::file_size(wal, ec) : 0;
+  note = "'" + path.string() +
+         "' was opened read-only as it stands: its directory is not writable, so SQLite " +
+         "cannot create the WAL index beside it";
+  if (!ec && wal_bytes > 0)
+    note += "; the " + std::to_string(wal_bytes) + "-byte write-ahead log beside it was not read, so its " +
+            "last commits are missing";
+  return immutable;
 }
 
 std::int64_t Connection::query_int(const std::string& sql) const {

@@ -21,7 +21,8 @@ namespace tocd::db::detail {
 class Connection {
  public:
   Connection() = default;
-  /// sqlite3_open_v2 with `flags`; a busy timeout so short lock waits never surface as errors.
+  /// sqlite3_open_v2 with `flags`; a busy timeout so short lock waits never surface as errors;
+  /// SQLITE_DBCONFIG_DEFENSIVE on and trusted_schema off, as for any file of unknown origin.
   Connection(const std::filesystem::path& path, int flags, int busy_timeout_ms = 10000);
   ~Connection();
   Connection(Connection&& other) noexcept : db_(other.db_) { other.db_ = nullptr; }
@@ -38,6 +39,11 @@ class Connection {
  private:
   sqlite3* db_ = nullptr;
 };
+
+/// Opens an existing file read-only. A WAL database in a directory this process may not write
+/// cannot get its -shm index; it is then opened immutable (the main file alone) and `note`
+/// says so, and what that leaves out. Otherwise `note` is left as it was.
+Connection open_existing_read_only(const std::filesystem::path& path, std::string& note);
 
 class Statement {
  public:

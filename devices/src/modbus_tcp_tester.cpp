@@ -20,7 +20,9 @@ namespace m = tester_map;
 class ModbusTcpTester final : public MechanicalTester {
  public:
   ModbusTcpTester(const ModbusTcpAddress& a, const ModbusOptions& o)
-      : link_(fmt::format("mechanical tester {}:{}", a.host, a.port), ModbusLink::Tcp{a}, o) {
+      : link_(fmt::format("mechanical tester {}:{}",
+                          a.host.find(':') == std::string::npos ? a.host : "[" + a.host + "]", a.port),
+              ModbusLink::Tcp{a}, o) {
     link_.open();
   }
 

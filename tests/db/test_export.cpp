@@ -163,6 +163,17 @@ TEST_F(DbExport, JsonCanDecimateOrOmitSamples) {
   EXPECT_EQ(k["channels"][0]["sample_count"], 50);
 }
 
+TEST_F(DbExport, JsonSurvivesInvalidUtf8InStoredStrings) {
+  // A file written before instrument strings were cleaned, or by something else: the same
+  // instrument (model, serial) with firmware bytes that are not UTF-8 and an ESC.
+  Database(path_).add_instrument({0, "mechanical_tester", "5943", "T-1", "1.0\xFF\x1B[2J", ""});
+  std::ostringstream out;
+  ASSERT_NO_THROW(write_json(Reader(path_), run_.id, {}, out));
+  EXPECT_EQ(out.str().find('\x1B'), std::string::npos);  // control characters are escaped
+  const auto j = nlohmann::json::parse(out.str());
+  EXPECT_EQ(j["instruments"][0]["firmware"], "1.0\xEF\xBF\xBD\x1B[2J");
+}
+
 TEST_F(DbExport, UnknownRunIsAnError) {
   std::ostringstream out;
   EXPECT_THROW(write_csv(Reader(path_), 99, CsvTable::steps, out), DatabaseError);

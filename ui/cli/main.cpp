@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "command_registry.hpp"
+#include "numeric_options.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/core/log.hpp"
 #include "tocd/core/version.hpp"
@@ -50,11 +51,17 @@ int main(int argc, char** argv) {
   auto& registry = tocd::cli::command_registry();
   std::sort(registry.begin(), registry.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
   for (const auto& entry : registry) entry.install(app);
+  tocd::cli::check_numeric_syntax(app);
+  // Bad options read like every other error, and exit 1 like them (CLI11's own codes are
+  // 100-120, which scripts would have to know).
+  app.failure_message([](const CLI::App*, const CLI::Error& e) {
+    return std::string("tocdlab: error: ") + e.what() + "\nRun with --help for more information.\n";
+  });
 
   try {
     app.parse(argc, argv);  // subcommand callbacks run inside parse
   } catch (const CLI::ParseError& e) {
-    const int status = app.exit(e);
+    const int status = app.exit(e) == 0 ? 0 : 1;  // --help and --version exit 0
     tocd::sim::parallel::finish_world();
     return status;
   } catch (const tocd::Error& e) {

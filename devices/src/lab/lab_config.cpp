@@ -1,8 +1,9 @@
 // Lab TOML: which instruments a rig has and how to reach them (docs/instruments/lab-config.md).
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <set>
-#include <sstream>
+#include <string>
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
@@ -173,15 +174,35 @@ LabConfig parse_lab_config(std::string_view toml_text, const std::string& source
       cfg.power_meter = read_power_meter(*t, source_name);
     }
   }
+  // A lab without instruments probes nothing and runs nothing: almost always a wrong or
+  // truncated file, so it is refused rather than treated as a lab that is all fine.
+  if (!cfg.tester && !cfg.power_meter && !cfg.vacuum) {
+    throw ConfigError(
+        fmt::format("{}: no instruments: a lab config needs at least one of [tester], "
+                    "[power_meter] or [vacuum]",
+                    source_name));
+  }
   return cfg;
 }
 
 LabConfig load_lab_config(const std::filesystem::path& path) {
+  std::error_code ec;
+  // An ifstream opens a directory without complaint and then reads nothing.
+  if (std::filesystem::is_directory(path, ec))
+    throw ConfigError(fmt::format("lab config {} is a directory, not a file", path.string()));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ConfigError(fmt::format("cannot read lab config {}", path.string()));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_lab_config(text.str(), path.string());
+  // Lab files are a few hundred bytes; a large one is not a lab config (a device, a log).
+  constexpr std::size_t kMaxBytes = 1 << 20;
+  std::string text(kMaxBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  if (in.bad()) throw ConfigError(fmt::format("cannot read lab config {}", path.string()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > kMaxBytes)
+    throw ConfigError(fmt::format("lab config {} is larger than {} bytes", path.string(), kMaxBytes));
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos)
+    throw ConfigError(fmt::format("lab config {} is empty", path.string()));
+  return parse_lab_config(text, path.string());
 }
 
 std::string to_toml(const LabConfig& cfg) {

@@ -8,6 +8,8 @@
 
 #include <fmt/format.h>
 #include <modbus/modbus.h>
+#include <netdb.h>
+#include <sys/socket.h>
 
 #include "tocd/core/error.hpp"
 #include "tocd/core/log.hpp"
@@ -77,12 +79,21 @@ ModbusLink::ModbusLink(std::string instrument, const Tcp& tcp, const ModbusOptio
   if (a.port <= 0 || a.port > 65535 || a.slave_id < 0 || a.slave_id > 255)
     throw ConfigError(fmt::format("{}: port must be 1..65535 and slave_id 0..255 (got {}, {})", instrument_,
                                   a.port, a.slave_id));
-  ctx_ = modbus_new_tcp(a.host.c_str(), a.port);
+  // A host name, an IPv4 or an IPv6 address: the protocol-independent context resolves it on
+  // each connect and tries every address it finds (modbus_new_tcp takes IPv4 literals only).
+  if (a.host.empty() || a.host.size() > 253)
+    throw ConfigError(fmt::format("{}: host must be a name or address of 1..253 characters (got \"{}\")",
+                                  instrument_, a.host));
+  host_ = a.host;
+  service_ = std::to_string(a.port);
+  ctx_ = modbus_new_tcp_pi(host_.c_str(), service_.c_str());
   if (!ctx_)
     throw ConfigError(fmt::format("{}: cannot make a Modbus TCP context for {}", instrument_, a.host));
   modbus_set_slave(ctx_, a.slave_id);
   set_timeout(ctx_, options_.timeout_s, false);
-  set_timeout(ctx_, std::min(options_.timeout_s, 0.1), true);
+  // The AnswerDeadline bounds the whole answer; a shorter per-byte limit would only fail
+  // answers that arrive in time but in pieces (a 100 ms stall of a busy machine did).
+  set_timeout(ctx_, options_.timeout_s, true);
   modbus_set_error_recovery(ctx_, MODBUS_ERROR_RECOVERY_NONE);
 }
 
@@ -120,10 +131,31 @@ void ModbusLink::drop() {
   connected_ = false;
 }
 
+namespace {
+
+// Why a host name does not resolve, or "" when it does. libmodbus reports a failed lookup as
+// "Connection refused", which sends people looking for the wrong fault.
+std::string resolution_failure(const std::string& host, const std::string& service) {
+  addrinfo hints{};
+  hints.ai_family = AF_UNSPEC;
+  hints.ai_socktype = SOCK_STREAM;
+  addrinfo* list = nullptr;
+  const int rc = ::getaddrinfo(host.c_str(), service.c_str(), &hints, &list);
+  if (list) ::freeaddrinfo(list);
+  return rc == 0 ? std::string{} : fmt::format("cannot resolve host \"{}\": {}", host, ::gai_strerror(rc));
+}
+
+}  // namespace
+
 bool ModbusLink::connect_once(std::string& why) {
-  if (modbus_connect(ctx_) == -1) {
+  // Not "== -1": the TCP PI backend returns getaddrinfo's (negative) code when a name does
+  // not resolve, which would otherwise pass for a connection.
+  if (modbus_connect(ctx_) != 0) {
     why = modbus_strerror(errno);
     modbus_close(ctx_);  // libmodbus leaves the socket/fd to us on failure
+    if (tcp_) {
+      if (std::string lookup = resolution_failure(host_, service_); !lookup.empty()) why = std::move(lookup);
+    }
     return false;
   }
   if (ever_connected_) ++reconnects_;
@@ -150,8 +182,23 @@ void ModbusLink::transact(const std::string& operation, const std::function<int(
       last_why = "cannot connect: " + last_why;
       continue;
     }
-    if (call(ctx_) >= 0) return;
+    // TCP: the whole answer, not each byte of it, must come within the timeout.
+    const bool bounded = tcp_;
+    if (bounded)
+      answer_deadline_.arm(
+          modbus_get_socket(ctx_),
+          std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                                 std::chrono::duration<double>(options_.timeout_s)));
+    const int rc = call(ctx_);
     const int err = errno;
+    if (bounded && answer_deadline_.disarm()) {
+      drop();               // the socket was shut down; the next attempt reconnects
+      if (rc >= 0) return;  // the answer completed just as the deadline passed
+      last_kind = Kind::timeout;
+      last_why = fmt::format("no complete answer within {:.0f} ms", options_.timeout_s * 1e3);
+      continue;
+    }
+    if (rc >= 0) return;
     if (err > MODBUS_ENOBASE && err <= EMBXGTAR) {
       const int code = err - MODBUS_ENOBASE;
       const std::string why = fmt::format("answered Modbus exception {} ({})", code, exception_name(code));

@@ -5,6 +5,7 @@
 #include <string>
 #include <string_view>
 
+#include "modbus/answer_deadline.hpp"
 #include "tocd/devices/modbus_options.hpp"
 
 struct _modbus;
@@ -49,6 +50,8 @@ class ModbusLink {
   std::string instrument_;
   ModbusOptions options_;
   bool tcp_;
+  std::string host_, service_;  // TCP only: for messages about name resolution
+  AnswerDeadline answer_deadline_;
   _modbus* ctx_ = nullptr;
   bool connected_ = false;
   bool ever_connected_ = false;

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "tocd/core/clock.hpp"
+#include "tocd/core/printable.hpp"
 #include "tocd/devices/power_meter_drivers.hpp"
 #include "tocd/devices/usbtmc.hpp"
 
@@ -20,6 +21,9 @@ ScpiClientOptions client_options(const std::string& who, const PowerMeterOptions
   if (!(o.timeout_s > 0.0) || !std::isfinite(o.timeout_s))
     throw ConfigError(fmt::format("{}: timeout_s must be a positive number of seconds", who));
   if (o.retries < 0 || o.retries > 20) throw ConfigError(fmt::format("{}: retries must be 0..20", who));
+  if (!(o.negative_tolerance_W >= 0.0 && o.negative_tolerance_W <= 1e-3))
+    throw ConfigError(
+        fmt::format("{}: negative_tolerance_W must be 0..1e-3 W, got {}", who, o.negative_tolerance_W));
   if (!(o.zero_timeout_s > 0.0) || !(o.zero_poll_s > 0.0))
     throw ConfigError(fmt::format("{}: zero_timeout_s and zero_poll_s must be positive", who));
   ScpiClientOptions c;
@@ -72,14 +76,16 @@ Identity ScpiPowerMeter::identity() {
     throw ProtocolError(
         client_.instrument(), "*IDN?",
         fmt::format("expected \"vendor,model,serial,firmware\", the answer was \"{}\"", answer));
-  return {fields[0], fields[1], fields[2], fields[3]};
+  // The client admits printable ASCII and tabs only; the tabs go too (see printable_text).
+  return {printable_text(fields[0]), printable_text(fields[1]), printable_text(fields[2]),
+          printable_text(fields[3])};
 }
 
 std::string ScpiPowerMeter::sensor_identity() {
   std::string s = client_.query("SYST:SENS:IDN?");
   if (s.empty())
     throw ProtocolError(client_.instrument(), "SYST:SENS:IDN?", "empty answer (no sensor attached?)");
-  return s;
+  return printable_text(s);
 }
 
 void ScpiPowerMeter::set_wavelength_nm(double nm) {
@@ -125,15 +131,27 @@ void ScpiPowerMeter::zero() {
 PowerReading ScpiPowerMeter::reading_from(std::string_view query) {
   // A reading takes averaging x sample time inside the meter; wait that much longer.
   const auto extra = ms(averaging_ * options_.sample_time_s * 1.5);
-  const double v = client_.query_number(query, extra);
+  const std::string answer = client_.query(query, extra);
+  const double v = parse_scpi_number(answer, client_.instrument(), std::string(query));
   PowerReading r;
   r.t_ns = monotonic_ns();
-  if (std::abs(v) >= scpi_over_range || !std::isfinite(v)) {
+  auto refuse = [&](const std::string& why) {
+    throw InvalidReading(client_.instrument(), std::string(query),
+                         fmt::format("the answer \"{}\" is {}; not accepted as a measurement", answer, why));
+  };
+  // SCPI codes: +9.9E37 overflow (over range), 9.91E37 not-a-number, -9.9E37 negative overflow.
+  if (std::abs(v - scpi_not_a_number) < 1e35) refuse("SCPI's not-a-number code");
+  if (v <= -scpi_over_range) refuse("a negative overflow");
+  if (v >= scpi_over_range || !std::isfinite(v)) {
     r.over_range = true;
     r.power_W = std::numeric_limits<double>::infinity();
-  } else {
-    r.power_W = v;
+    return r;
   }
+  if (v < -options_.negative_tolerance_W) {
+    refuse(fmt::format("a negative power (below -{:g} W, the zeroed sensor's noise)",
+                       options_.negative_tolerance_W));
+  }
+  r.power_W = v;
   return r;
 }
 

@@ -1,7 +1,9 @@
 #include "tocd/sim/mesh/slab_mesh.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <numbers>
 #include <string>
@@ -14,11 +16,24 @@
 namespace tocd::sim::mesh {
 namespace {
 
-void check_spec(const SlabSpec& s) {
-  if (!(s.width_mm > 0.0) || !(s.depth_mm > 0.0)) {
+// Tets = 6 per cell; the count is computed in floating point so that absurd cell counts are
+// refused instead of overflowing.
+double slab_tet_count(const SlabSpec& s) {
+  double cells_z = 0.0;
+  for (const auto& layer : s.layers) cells_z += layer.cells_z;
+  return 6.0 * s.cells_x * s.cells_y * cells_z;
+}
+
+void check_length(double v, const char* what) {
+  if (!(v > 0.0 && v <= kMaxSlabMm)) {
     throw tocd::ConfigError(
-        fmt::format("slab width and depth must be positive (got {} x {} mm)", s.width_mm, s.depth_mm));
+        fmt::format("slab {} {} mm is out of range: accepted above 0 up to {:g} mm", what, v, kMaxSlabMm));
   }
+}
+
+void check_spec(const SlabSpec& s) {
+  check_length(s.width_mm, "width");
+  check_length(s.depth_mm, "depth");
   if (s.cells_x < 1 || s.cells_y < 1) throw tocd::ConfigError("slab needs at least one cell in x and y");
   if (s.layers.empty()) throw tocd::ConfigError("slab needs at least one layer");
   for (std::size_t i = 0; i < s.layers.size(); ++i) {
@@ -26,6 +41,13 @@ void check_spec(const SlabSpec& s) {
       throw tocd::ConfigError(
           fmt::format("slab layer {} needs a positive thickness and at least one cell in z", i));
     }
+    check_length(s.layers[i].thickness_mm, "layer thickness");
+  }
+  if (const double tets = slab_tet_count(s); tets > static_cast<double>(kMaxSlabTets)) {
+    throw tocd::ConfigError(
+        fmt::format("slab of {} x {} cells across would have {:.3g} tets; the limit is {} "
+                    "(use fewer --slab-cells or a thinner slab)",
+                    s.cells_x, s.cells_y, tets, kMaxSlabTets));
   }
 }
 
@@ -50,13 +72,20 @@ double parse_mm(const std::string& tok, const std::string& whole) {
   if (tok.empty() || *end != '\0' || !(v > 0.0)) {
     throw tocd::ConfigError(fmt::format("slab '{}': '{}' is not a positive length in mm", whole, tok));
   }
+  if (!(v <= kMaxSlabMm)) {
+    throw tocd::ConfigError(fmt::format("slab '{}': {} mm is out of range: accepted above 0 up to {:g} mm",
+                                        whole, tok, kMaxSlabMm));
+  }
   return v;
 }
 
 }  // namespace
 
 SlabSpec parse_slab_spec(const std::string& text, int cells_across) {
-  if (cells_across < 1) throw tocd::ConfigError("slab cells across must be >= 1");
+  if (cells_across < 1 || cells_across > kMaxSlabCellsAcross) {
+    throw tocd::ConfigError(fmt::format("slab cells across {} is out of range: accepted 1 to {}",
+                                        cells_across, kMaxSlabCellsAcross));
+  }
   SlabSpec spec;
   spec.cells_x = spec.cells_y = cells_across;
   const auto colon = text.find(':');
@@ -77,8 +106,11 @@ SlabSpec parse_slab_spec(const std::string& text, int cells_across) {
   spec.layers.clear();
   const double cell_mm = std::min(spec.width_mm, spec.depth_mm) / cells_across;
   auto layer = [&](double thickness, std::int32_t region) {
-    const int cz = std::max(2, static_cast<int>(std::ceil(thickness / cell_mm - 1e-9)));
-    spec.layers.push_back({thickness, region, cz});
+    // Clamped before the cast: a thin, wide slab asks for absurd z counts, which check_spec
+    // then refuses by the tet limit rather than by an overflowed int.
+    const double cz =
+        std::clamp(std::ceil(thickness / cell_mm - 1e-9), 2.0, static_cast<double>(kMaxSlabTets));
+    spec.layers.push_back({thickness, region, static_cast<int>(cz)});
   };
   if (colon == std::string::npos) {
     layer(parse_mm(dims[2], text), 1);
@@ -94,9 +126,11 @@ SlabSpec parse_slab_spec(const std::string& text, int cells_across) {
     }
     char* end = nullptr;
     const std::string region_text = item.substr(at + 1);
-    const long region = std::strtol(region_text.c_str(), &end, 10);
-    if (region_text.empty() || *end != '\0') {
-      throw tocd::ConfigError(fmt::format("slab '{}': region '{}' is not an integer", text, region_text));
+    errno = 0;
+    const long long region = std::strtoll(region_text.c_str(), &end, 10);
+    if (region_text.empty() || *end != '\0' || errno == ERANGE || region < INT32_MIN || region > INT32_MAX) {
+      throw tocd::ConfigError(fmt::format("slab '{}': region '{}' is not an integer in [{}, {}]", text,
+                                          region_text, INT32_MIN, INT32_MAX));
     }
     layer(parse_mm(item.substr(0, at), text), static_cast<std::int32_t>(region));
     pos = comma + 1;

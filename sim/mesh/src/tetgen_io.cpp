@@ -1,7 +1,9 @@
 #include "tocd/sim/mesh/tetgen_io.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -13,12 +15,19 @@
 namespace tocd::sim::mesh {
 namespace {
 
+// TetGen files carry a handful of element attributes; more is a corrupt header.
+constexpr int kMaxAttributes = 64;
+
 // Reads a TetGen file as rows of numbers, skipping blank lines and '#' comments, and keeps
 // the line number of each row for error messages.
 class TableReader {
  public:
   explicit TableReader(const std::filesystem::path& path) : path_(path), in_(path) {
     if (!in_) throw MeshError(fmt::format("cannot open {}", path.string()));
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(path, ec);
+    if (ec) throw MeshError(fmt::format("cannot open {}: not a regular file", path.string()));
+    file_bytes_ = size;
   }
 
   // Next non-empty row as numbers; false at end of file.
@@ -53,8 +62,48 @@ class TableReader {
     throw MeshError(fmt::format("{}:{}: {}", path_.string(), line_no_, why));
   }
 
+  // A header count: a whole number no larger than the file can hold (each row is at least
+  // `min_row_bytes` long) nor than kMaxMeshItems, checked before anything is allocated.
+  std::int64_t as_count(double v, std::size_t min_row_bytes, const char* what) const {
+    const std::int64_t fits = static_cast<std::int64_t>(file_bytes_ / min_row_bytes);
+    const std::int64_t limit = std::min<std::int64_t>(kMaxMeshItems, fits);
+    if (!(v >= 0.0) || v != std::floor(v) || v > static_cast<double>(limit)) {
+      fail(
+          fmt::format("{} {} is out of range: accepted 0 to {} (at most {} items, and a {}-byte file "
+                      "holds at most {} rows)",
+                      what, v, limit, kMaxMeshItems, file_bytes_, fits));
+    }
+    return static_cast<std::int64_t>(v);
+  }
+
+  // A small non-negative integer from a header (attribute count, marker flag).
+  int as_small(double v, int max, const char* what) const {
+    if (!(v >= 0.0) || v != std::floor(v) || v > max)
+      fail(fmt::format("{} {} is out of range: accepted 0 to {}", what, v, max));
+    return static_cast<int>(v);
+  }
+
+  // A region id or boundary marker: any whole number an int32 holds.
+  std::int32_t as_label(double v, const char* what) const {
+    constexpr double lo = std::numeric_limits<std::int32_t>::min();
+    constexpr double hi = std::numeric_limits<std::int32_t>::max();
+    if (v != std::floor(v) || !(v >= lo && v <= hi))
+      fail(fmt::format("{} {} is not an integer in [{}, {}]", what, v, lo, hi));
+    return static_cast<std::int32_t>(v);
+  }
+
+  // A node coordinate in mm: finite and within kMaxCoordinateMm of the origin.
+  double as_coordinate(double v, char axis) const {
+    if (!(std::abs(v) <= kMaxCoordinateMm))
+      fail(fmt::format("node coordinate {} = {} is out of range: accepted -{:g} to {:g} mm", axis, v,
+                       kMaxCoordinateMm, kMaxCoordinateMm));
+    return v;
+  }
+
   std::int32_t as_index(double v, std::int64_t base, std::int64_t count, const char* what) const {
     if (v != std::floor(v)) fail(fmt::format("{} {} is not an integer", what, v));
+    if (!(v >= static_cast<double>(base) && v < static_cast<double>(base + count)))
+      fail(fmt::format("{} {} is out of range ({} items, first index {})", what, v, count, base));
     const auto i = static_cast<std::int64_t>(v) - base;
     if (i < 0 || i >= count)
       fail(fmt::format("{} {} is out of range ({} items, first index {})", what, v, count, base));
@@ -64,6 +113,7 @@ class TableReader {
  private:
   std::filesystem::path path_;
   std::ifstream in_;
+  std::uintmax_t file_bytes_ = 0;
   int line_no_ = 0;
 };
 
@@ -79,7 +129,8 @@ TetMesh read_tetgen(const std::filesystem::path& prefix) {
   {
     TableReader r(with_ext(prefix, ".node"));
     const auto head = r.require(1, "the .node header");
-    const auto count = static_cast<std::int64_t>(head[0]);
+    // Shortest node row: "0 0 0 0\n".
+    const auto count = r.as_count(head[0], 8, "node count");
     if (head.size() > 1 && head[1] != 3)
       r.fail(fmt::format("dimension {} given, only 3 is supported", head[1]));
     mesh.nodes.resize(static_cast<std::size_t>(count));
@@ -88,17 +139,19 @@ TetMesh read_tetgen(const std::filesystem::path& prefix) {
       if (i == 0) base = static_cast<std::int64_t>(row[0]);
       if (base != 0 && base != 1) r.fail("node indices must start at 0 or 1");
       const auto idx = r.as_index(row[0], base, count, "node index");
-      mesh.nodes[static_cast<std::size_t>(idx)] = {row[1], row[2], row[3]};
+      mesh.nodes[static_cast<std::size_t>(idx)] = {r.as_coordinate(row[1], 'x'), r.as_coordinate(row[2], 'y'),
+                                                   r.as_coordinate(row[3], 'z')};
     }
   }
   const auto nn = static_cast<std::int64_t>(mesh.nodes.size());
   {
     TableReader r(with_ext(prefix, ".ele"));
     const auto head = r.require(2, "the .ele header (count nodes-per-tet [attributes])");
-    const auto count = static_cast<std::int64_t>(head[0]);
+    // Shortest tet row: "0 0 0 0 0\n".
+    const auto count = r.as_count(head[0], 10, "tet count");
+    if (head[1] != 4 && head[1] != 10) r.fail(fmt::format("{} nodes per tet; expected 4 or 10", head[1]));
     const int per_tet = static_cast<int>(head[1]);
-    const int attrs = head.size() > 2 ? static_cast<int>(head[2]) : 0;
-    if (per_tet != 4 && per_tet != 10) r.fail(fmt::format("{} nodes per tet; expected 4 or 10", per_tet));
+    const int attrs = head.size() > 2 ? r.as_small(head[2], kMaxAttributes, "attribute count") : 0;
     mesh.tets.resize(static_cast<std::size_t>(count));
     mesh.regions.assign(static_cast<std::size_t>(count), 0);
     for (std::int64_t i = 0; i < count; ++i) {
@@ -106,24 +159,22 @@ TetMesh read_tetgen(const std::filesystem::path& prefix) {
       const auto t = static_cast<std::size_t>(r.as_index(row[0], base, count, "tet index"));
       for (int k = 0; k < 4; ++k) mesh.tets[t][k] = r.as_index(row[1 + k], base, nn, "node");
       if (attrs > 0) {
-        const double region = row[1 + per_tet];
-        if (region != std::floor(region))
-          r.fail(fmt::format("region attribute {} is not an integer", region));
-        mesh.regions[t] = static_cast<std::int32_t>(region);
+        mesh.regions[t] = r.as_label(row[1 + per_tet], "region attribute");
       }
     }
   }
   if (std::filesystem::exists(with_ext(prefix, ".face"))) {
     TableReader r(with_ext(prefix, ".face"));
     const auto head = r.require(1, "the .face header (count [markers])");
-    const auto count = static_cast<std::int64_t>(head[0]);
-    const bool markers = head.size() > 1 && head[1] != 0;
+    // Shortest face row: "0 0 0 0\n".
+    const auto count = r.as_count(head[0], 8, "face count");
+    const bool markers = head.size() > 1 && r.as_small(head[1], 1, "boundary marker flag") != 0;
     mesh.boundary_faces.resize(static_cast<std::size_t>(count));
     for (std::int64_t i = 0; i < count; ++i) {
       const auto row = r.require(markers ? 5 : 4, "a face row (index a b c [marker])");
       auto& face = mesh.boundary_faces[static_cast<std::size_t>(i)];
       for (int k = 0; k < 3; ++k) face.nodes[k] = r.as_index(row[1 + k], base, nn, "node");
-      face.marker = markers ? static_cast<std::int32_t>(row[4]) : 0;
+      face.marker = markers ? r.as_label(row[4], "boundary marker") : 0;
     }
   }
   return mesh;

@@ -20,6 +20,16 @@ void check_indices_and_volumes(const TetMesh& mesh) {
   if (mesh.regions.size() != mesh.tets.size()) {
     throw MeshError(fmt::format("mesh has {} tets but {} region ids", mesh.tets.size(), mesh.regions.size()));
   }
+  // NaN or huge coordinates would pass the volume test (NaN compares false) and break the
+  // point-location grid, so every node is checked first.
+  for (std::size_t n = 0; n < mesh.nodes.size(); ++n) {
+    for (int k = 0; k < 3; ++k) {
+      if (!(std::abs(mesh.nodes[n][k]) <= kMaxCoordinateMm)) {
+        throw MeshError(fmt::format("node {} has coordinate {} = {}; accepted -{:g} to {:g} mm", n, "xyz"[k],
+                                    mesh.nodes[n][k], kMaxCoordinateMm, kMaxCoordinateMm));
+      }
+    }
+  }
   const auto nn = static_cast<std::int64_t>(mesh.nodes.size());
   for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
     const auto& tet = mesh.tets[t];

@@ -1,8 +1,10 @@
 // Lab TOML parsing: fields, defaults, round trip, and errors that name the line and key.
+#include <filesystem>
 #include <fstream>
 #include <string>
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include "tocd/core/error.hpp"
 #include "tocd/devices/lab.hpp"
@@ -121,6 +123,37 @@ TEST(LabConfig, SyntaxErrorsCarryThePosition) {
 
 TEST(LabConfig, MissingFileIsAConfigError) {
   EXPECT_THROW(load_lab_config("/nonexistent/lab.toml"), tocd::ConfigError);
+}
+
+std::string load_error(const std::filesystem::path& path) {
+  try {
+    load_lab_config(path);
+  } catch (const tocd::ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(LabConfig, EmptyFileDirectoryAndNoInstrumentsAreRefused) {
+  const auto dir = std::filesystem::temp_directory_path() / ("tocd_lab_cfg_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string as_dir = load_error(dir);
+  EXPECT_NE(as_dir.find(dir.string() + " is a directory, not a file"), std::string::npos) << as_dir;
+
+  std::ofstream(dir / "empty.toml").flush();
+  const std::string empty = load_error(dir / "empty.toml");
+  EXPECT_NE(empty.find("empty.toml is empty"), std::string::npos) << empty;
+  std::ofstream(dir / "blank.toml") << "\n  \n\t\n";
+  EXPECT_NE(load_error(dir / "blank.toml").find("blank.toml is empty"), std::string::npos);
+
+  std::ofstream(dir / "name_only.toml") << "# a rig\n[lab]\nname = \"rig\"\n";
+  const std::string none = load_error(dir / "name_only.toml");
+  EXPECT_NE(none.find("name_only.toml: no instruments"), std::string::npos) << none;
+  EXPECT_NE(error_of("").find("lab.toml: no instruments"), std::string::npos);
+
+  std::ofstream(dir / "big.toml") << std::string((1 << 20) + 10, '#');
+  EXPECT_NE(load_error(dir / "big.toml").find("larger than 1048576 bytes"), std::string::npos);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

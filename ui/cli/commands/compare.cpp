@@ -1,11 +1,15 @@
 // `tocdlab compare`: measured vs. predicted transmission of a run, step by step.
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <string>
 
 #include "command_registry.hpp"
+#include "numeric_options.hpp"
 #include "tocd/acquisition/compare_table.hpp"
 #include "tocd/db/reader.hpp"
+
+namespace cli = tocd::cli;
 
 namespace {
 
@@ -19,7 +23,9 @@ void install_compare(CLI::App& root) {
   auto* cmd = root.add_subcommand("compare", "Measured vs. predicted transmission per step of a run");
   auto o = std::make_shared<CompareOptions>();
   cmd->add_option("--db", o->db, "measurement database file")->required();
-  cmd->add_option("--run", o->run, "run id (see tocdlab runs)")->required();
+  cmd->add_option("--run", o->run, "run id (see tocdlab runs)")
+      ->check(cli::whole_in(std::int64_t{1}, std::numeric_limits<std::int64_t>::max()))
+      ->required();
   cmd->add_flag("--json", o->json, "machine-readable output");
   cmd->callback([o] {
     const auto table = tocd::acquisition::compare_table(tocd::db::Reader(o->db), o->run);

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -13,6 +14,7 @@
 #include <unistd.h>
 
 #include "command_registry.hpp"
+#include "numeric_options.hpp"
 #include "run_progress.hpp"
 #include "tocd/acquisition/compare_table.hpp"
 #include "tocd/acquisition/engine.hpp"
@@ -24,6 +26,8 @@
 #include "tocd/devices/lab.hpp"
 #include "tocd/mocks/sim_tissue.hpp"
 #include "tocd/mocks/simulated_lab.hpp"
+
+namespace cli = tocd::cli;
 
 namespace {
 
@@ -178,13 +182,21 @@ void install_demo(CLI::App& root) {
       ->capture_default_str();
   cmd->add_option("--csv", o->csv,
                   "measured vs. predicted table as CSV (default: the database name with .csv)");
-  cmd->add_option("--photons", o->photons, "Monte Carlo photons per predicted step")->capture_default_str();
+  cmd->add_option("--photons", o->photons, "Monte Carlo photons per predicted step")
+      ->check(cli::whole_in(std::uint64_t{1}, cli::kMaxPhotons))
+      ->capture_default_str();
   cmd->add_option("--sample-photons", o->sample_photons,
                   "Monte Carlo photons per point of the simulated sample's transmission curve")
+      ->check(cli::whole_in(std::uint64_t{1}, cli::kMaxPhotons))
       ->capture_default_str();
-  cmd->add_option("--seed", o->seed, "random seed (predictions and instrument noise)")->capture_default_str();
-  cmd->add_option("--threads", o->threads, "Monte Carlo threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--seed", o->seed, "random seed (predictions and instrument noise)")
+      ->check(cli::whole_in(std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max()))
+      ->capture_default_str();
+  cmd->add_option("--threads", o->threads, "Monte Carlo threads (0 = all cores)")
+      ->check(cli::whole_in(std::int64_t{0}, std::int64_t{cli::kMaxThreads}))
+      ->capture_default_str();
   cmd->add_option("--clock-factor", o->clock_factor, "simulated seconds per real second")
+      ->check(cli::real_above(0.0, 1e6))
       ->capture_default_str();
   cmd->add_option("--protocol", o->protocol,
                   "another pin-compression protocol TOML instead of the built-in one");

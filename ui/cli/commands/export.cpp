@@ -3,14 +3,18 @@
 
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <string>
 
 #include <fmt/format.h>
 
 #include "command_registry.hpp"
+#include "numeric_options.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/db/reader.hpp"
+
+namespace cli = tocd::cli;
 
 namespace {
 
@@ -45,7 +49,9 @@ void install_export(CLI::App& root) {
   auto* cmd = root.add_subcommand("export", "Export a run as CSV or JSON");
   auto o = std::make_shared<ExportOptions>();
   cmd->add_option("--db", o->db, "measurement database file")->required();
-  cmd->add_option("--run", o->run, "run id (see tocdlab runs)")->required();
+  cmd->add_option("--run", o->run, "run id (see tocdlab runs)")
+      ->check(cli::whole_in(std::int64_t{1}, std::numeric_limits<std::int64_t>::max()))
+      ->required();
   cmd->add_option("--format", o->format, "csv or json")
       ->check(CLI::IsMember({"csv", "json"}))
       ->capture_default_str();
@@ -53,6 +59,7 @@ void install_export(CLI::App& root) {
       ->check(CLI::IsMember({"steps", "samples", "events"}))
       ->capture_default_str();
   cmd->add_option("--max-points", o->max_points, "JSON: at most this many samples per channel (0 = all)")
+      ->check(cli::whole_in(std::uint64_t{0}, std::uint64_t{100000000}))
       ->capture_default_str();
   cmd->add_option("-o,--out", o->out, "output file (default: standard output)");
   cmd->callback([o] { export_run(*o); });

@@ -9,7 +9,10 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
+#include "numeric_options.hpp"
 #include "tocd/sim/fe/solve.hpp"
+
+namespace cli = tocd::cli;
 
 namespace {
 
@@ -33,6 +36,9 @@ std::vector<double> parse_list(const std::string& s) {
     if (used == 0 || used != item.size())
       throw tocd::sim::fe::FeError(
           fmt::format("--displacement: '{}' is not a number (give mm, comma separated)", item));
+    if (!(x > 0.0 && x <= 100.0))
+      throw tocd::sim::fe::FeError(
+          fmt::format("--displacement: {} is out of range: accepted above 0 up to 100 mm", item));
     v.push_back(x);
   }
   return v;
@@ -86,12 +92,21 @@ void install_fe(CLI::App& root) {
       ->capture_default_str();
   cmd->add_option("--bottom", o->bottom, "skin on the slide: bonded | sliding")->capture_default_str();
   cmd->add_option("--kinematics", o->kinematics, "axi | plane-strain | plane-stress")->capture_default_str();
-  cmd->add_option("--thickness", o->thickness_mm, "skin thickness [mm]")->capture_default_str();
-  cmd->add_option("--radius", o->outer_radius_mm, "skin radius (half width) [mm]")->capture_default_str();
-  cmd->add_option("--pin-radius", o->pin_radius_mm, "pin tip radius [mm]")->capture_default_str();
-  cmd->add_option("--refine", o->refinement, "mesh refinement factor (2 = twice as fine)")
+  cmd->add_option("--thickness", o->thickness_mm, "skin thickness [mm]")
+      ->check(cli::real_above(0.0, 100.0))
       ->capture_default_str();
-  cmd->add_option("--depth", o->depth_mm, "plane kinematics: out-of-plane depth [mm]")->capture_default_str();
+  cmd->add_option("--radius", o->outer_radius_mm, "skin radius (half width) [mm]")
+      ->check(cli::real_above(0.0, 1000.0))
+      ->capture_default_str();
+  cmd->add_option("--pin-radius", o->pin_radius_mm, "pin tip radius [mm]")
+      ->check(cli::real_above(0.0, 100.0))
+      ->capture_default_str();
+  cmd->add_option("--refine", o->refinement, "mesh refinement factor (2 = twice as fine)")
+      ->check(cli::real_above(0.0, 16.0))
+      ->capture_default_str();
+  cmd->add_option("--depth", o->depth_mm, "plane kinematics: out-of-plane depth [mm]")
+      ->check(cli::real_above(0.0, 1000.0))
+      ->capture_default_str();
   cmd->add_flag("--json", o->json, "machine-readable output");
   cmd->add_option("--vtu", o->vtu, "write the deformed mesh (.vtu, one file per step: NAME_k.vtu)");
   cmd->callback([o] { run_fe(*o); });

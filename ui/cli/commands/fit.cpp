@@ -2,6 +2,7 @@
 #include "tocd/sim/material/fit.hpp"
 
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -9,9 +10,12 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
+#include "numeric_options.hpp"
 #include "tocd/acquisition/run_stress_strain.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/db/reader.hpp"
+
+namespace cli = tocd::cli;
 
 namespace {
 
@@ -84,14 +88,18 @@ void install_fit(CLI::App& root) {
   auto o = std::make_shared<FitCliOptions>();
   cmd->add_option("--csv", o->csv, "two columns: strain, stress [MPa] (compression magnitudes by default)");
   cmd->add_option("--db", o->db, "measurement database: fit a recorded run's load/displacement instead");
-  cmd->add_option("--run", o->run, "run id in --db");
+  cmd->add_option("--run", o->run, "run id in --db")
+      ->check(cli::whole_in(std::int64_t{1}, std::numeric_limits<std::int64_t>::max()));
   cmd->add_option("--pin-radius", o->pin_radius, "pin radius [mm] for stress = load / (pi r^2) (--db)")
+      ->check(cli::real_above(0.0, 100.0))
       ->capture_default_str();
   cmd->add_option("--bins", o->bins, "strain bins the run's samples are averaged in (--db)")
+      ->check(cli::whole_in(std::uint64_t{1}, std::uint64_t{100000}))
       ->capture_default_str();
   cmd->add_option("--model", o->model, "ogden1 | ogden2 | ogden3 | neo-hookean | mooney-rivlin | yeoh")
       ->capture_default_str();
   cmd->add_option("--poisson", o->poisson, "Poisson's ratio that sets D1 from the fitted shear modulus")
+      ->check(cli::real_above(-1.0, 0.5))
       ->capture_default_str();
   cmd->add_flag("--signed", o->signed_data, "data are signed nominal strain/stress (tension positive)");
   cmd->add_flag("--json", o->json, "machine-readable output");

@@ -1,5 +1,6 @@
 // `tocdlab mc`: photon Monte Carlo on a TetGen mesh or a built-in slab (docs/mc.md).
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -8,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
+#include "numeric_options.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/sim/mc/optics.hpp"
 #include "tocd/sim/mc/output.hpp"
@@ -16,6 +18,8 @@
 #include "tocd/sim/mesh/slab_mesh.hpp"
 #include "tocd/sim/mesh/tetgen_io.hpp"
 #include "tocd/sim/parallel/team.hpp"
+
+namespace cli = tocd::cli;
 
 namespace {
 
@@ -84,18 +88,29 @@ void install_mc(CLI::App& root) {
   auto o = std::make_shared<McOptions>();
   cmd->add_option("--mesh", o->mesh_prefix, "TetGen mesh prefix (PREFIX.node, .ele, optional .face)");
   cmd->add_option("--slab", o->slab, "built-in slab: WxDxT or WxD:T1@R1,T2@R2,... (mm, layers top-down)");
-  cmd->add_option("--slab-cells", o->slab_cells, "slab cells across x and y")->capture_default_str();
+  cmd->add_option("--slab-cells", o->slab_cells, "slab cells across x and y")
+      ->check(cli::whole_in(std::int64_t{1}, std::int64_t{1000}))
+      ->capture_default_str();
   cmd->add_option("--optics", o->optics_file, "optics TOML: [region.<id>] mu_a, mu_s (1/mm), g, n")
       ->required();
   cmd->add_option("--source", o->source,
                   "pencil[:X,Y] | disk:[X,Y,]R | marker:N  (',nospec' = no entry specular)")
       ->capture_default_str();
-  cmd->add_option("--photons", o->photons, "photons to launch")->capture_default_str();
-  cmd->add_option("--seed", o->seed, "random seed")->capture_default_str();
-  cmd->add_option("--threads", o->threads, "threads (results do not depend on it)")->capture_default_str();
-  cmd->add_option("--batches", o->batches, "batches for standard errors")->capture_default_str();
+  cmd->add_option("--photons", o->photons, "photons to launch")
+      ->check(cli::whole_in(std::uint64_t{1}, cli::kMaxPhotons))
+      ->capture_default_str();
+  cmd->add_option("--seed", o->seed, "random seed")
+      ->check(cli::whole_in(std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max()))
+      ->capture_default_str();
+  cmd->add_option("--threads", o->threads, "threads (results do not depend on it)")
+      ->check(cli::whole_in(std::int64_t{1}, std::int64_t{cli::kMaxThreads}))
+      ->capture_default_str();
+  cmd->add_option("--batches", o->batches, "batches for standard errors")
+      ->check(cli::whole_in(std::int64_t{2}, std::int64_t{1000000}))
+      ->capture_default_str();
   cmd->add_option("--ambient-n", o->ambient_n,
-                  "refractive index outside the mesh (default: optics file, else 1.0)");
+                  "refractive index outside the mesh (default: optics file, else 1.0)")
+      ->check(cli::real_in(1.0, 5.0));
   cmd->add_flag("--json", o->json, "machine-readable output");
   cmd->add_option("--vtu", o->vtu, "write per-tet fluence to this .vtu file (ParaView)");
   cmd->callback([o] { run_mc(*o); });

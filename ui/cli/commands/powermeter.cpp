@@ -9,8 +9,11 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
+#include "numeric_options.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/devices/power_meter_drivers.hpp"
+
+namespace cli = tocd::cli;
 
 namespace {
 
@@ -126,9 +129,13 @@ void install_powermeter(CLI::App& root) {
   auto o = std::make_shared<ReadOptions>();
   read->add_option("--tcp", o->tcp, "HOST[:PORT] of a meter speaking SCPI over TCP (port 5025 by default)");
   read->add_option("--usb", o->usb, "VID:PID[:SERIAL] of a USBTMC meter, e.g. 1313:8072");
-  read->add_option("--wavelength", o->wavelength_nm, "set the correction wavelength (nm) first");
-  read->add_option("--averaging", o->averaging, "set the averaging count first");
-  read->add_option("--timeout", o->timeout_s, "seconds per command")->capture_default_str();
+  read->add_option("--wavelength", o->wavelength_nm, "set the correction wavelength (nm) first")
+      ->check(cli::real_above(0.0, 100000.0));
+  read->add_option("--averaging", o->averaging, "set the averaging count first")
+      ->check(cli::whole_in(std::int64_t{1}, std::int64_t{1000000}));
+  read->add_option("--timeout", o->timeout_s, "seconds per command")
+      ->check(cli::real_above(0.0, 3600.0))
+      ->capture_default_str();
   read->add_flag("--json", o->json, "machine-readable output");
   read->callback([o] { read_once(*o); });
 }

@@ -1,6 +1,7 @@
 // `tocdlab predict`: transmission for one compression step (FE + tet mesh + Monte Carlo).
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -8,10 +9,13 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
+#include "numeric_options.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/sim/parallel/team.hpp"
 #include "tocd/sim/study/predictor.hpp"
 #include "tocd/sim/study/study.hpp"
+
+namespace cli = tocd::cli;
 
 namespace {
 
@@ -93,24 +97,39 @@ void install_predict(CLI::App& root) {
   auto o = std::make_shared<PredictOptions>();
   auto& r = o->request;
   cmd->add_option("--displacement", r.displacement_mm, "pin displacement into the skin (mm)")
+      ->check(cli::real_in(0.0, 100.0))
       ->capture_default_str();
-  cmd->add_option("--thickness", r.thickness_mm, "skin thickness (mm)")->capture_default_str();
-  cmd->add_option("--photons", r.photons, "photons")->capture_default_str();
-  cmd->add_option("--seed", r.seed, "random seed")->capture_default_str();
+  cmd->add_option("--thickness", r.thickness_mm, "skin thickness (mm)")
+      ->check(cli::real_above(0.0, 100.0))
+      ->capture_default_str();
+  cmd->add_option("--photons", r.photons, "photons")
+      ->check(cli::whole_in(std::uint64_t{1}, cli::kMaxPhotons))
+      ->capture_default_str();
+  cmd->add_option("--seed", r.seed, "random seed")
+      ->check(cli::whole_in(std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max()))
+      ->capture_default_str();
   cmd->add_option("--optics", r.optics_model, "optics model: threshold | graded")
       ->check(CLI::IsMember({"threshold", "graded"}))
       ->capture_default_str();
   cmd->add_option("--compressed-optics", o->compressed,
                   "threshold model: optics of the compressed region (native, a80, ..., cleared, MU_A/MU_S/N)")
       ->capture_default_str();
-  cmd->add_option("--graded-bins", r.graded.bins, "graded model: optics levels")->capture_default_str();
+  cmd->add_option("--graded-bins", r.graded.bins, "graded model: optics levels")
+      ->check(cli::whole_in(std::int64_t{1}, std::int64_t{1000}))
+      ->capture_default_str();
   cmd->add_option("--mesh", r.mesh_preset, "mesh preset: fast | paper")
       ->check(CLI::IsMember({"fast", "paper"}))
       ->capture_default_str();
-  cmd->add_option("--max-edge", r.max_edge_mm, "override the preset's surface edge length (mm)");
-  cmd->add_option("--tip-edge", r.tip_edge_mm, "override the pin tip's segment length (mm)");
-  cmd->add_option("--pin-length", r.pin_length_mm, "pin length tip to top face (mm)")->capture_default_str();
-  cmd->add_option("--threads", r.threads, "Monte Carlo threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--max-edge", r.max_edge_mm, "override the preset's surface edge length (mm)")
+      ->check(cli::real_above(0.0, 100.0));
+  cmd->add_option("--tip-edge", r.tip_edge_mm, "override the pin tip's segment length (mm)")
+      ->check(cli::real_above(0.0, 100.0));
+  cmd->add_option("--pin-length", r.pin_length_mm, "pin length tip to top face (mm)")
+      ->check(cli::real_above(0.0, 1000.0))
+      ->capture_default_str();
+  cmd->add_option("--threads", r.threads, "Monte Carlo threads (0 = all cores)")
+      ->check(cli::whole_in(std::int64_t{0}, std::int64_t{cli::kMaxThreads}))
+      ->capture_default_str();
   cmd->add_flag("--baseline", r.baseline, "glass only: pin tip on the slide, no skin");
   cmd->add_option("--config", o->config_path,
                   "reproduce a prediction from its config JSON (or its --json output)");

@@ -2,6 +2,7 @@
 // and records it into a measurement database (docs/acquisition.md).
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -11,6 +12,7 @@
 #include <unistd.h>
 
 #include "command_registry.hpp"
+#include "numeric_options.hpp"
 #include "run_progress.hpp"
 #include "tocd/acquisition/compare_table.hpp"
 #include "tocd/acquisition/engine.hpp"
@@ -21,6 +23,8 @@
 #include "tocd/devices/lab.hpp"
 #include "tocd/mocks/simulated_lab.hpp"
 #include "tocd/mocks/tissue.hpp"
+
+namespace cli = tocd::cli;
 
 namespace {
 
@@ -150,13 +154,18 @@ void install_run(CLI::App& root) {
   cmd->add_option("--lab", o->lab, "lab config TOML: which instruments, where");
   cmd->add_flag("--simulated", o->simulated, "use the built-in simulated lab instead of --lab");
   cmd->add_option("--db", o->db, "measurement database file (created when absent)")->required();
-  cmd->add_option("--resume", o->resume, "continue the interrupted or aborted run with this id");
+  cmd->add_option("--resume", o->resume, "continue the interrupted or aborted run with this id")
+      ->check(cli::whole_in(std::int64_t{1}, std::numeric_limits<std::int64_t>::max()));
   cmd->add_option("--clock-factor", o->clock_factor, "simulated seconds per real second (--simulated only)")
+      ->check(cli::real_above(0.0, 1e6))
       ->capture_default_str();
   cmd->add_option("--operator", o->operator_name, "operator name stored with the run");
   cmd->add_option("--photons", o->photons, "Monte Carlo photons per predicted step (FE + mesh + MC per step)")
+      ->check(cli::whole_in(std::uint64_t{1}, cli::kMaxPhotons))
       ->capture_default_str();
-  cmd->add_option("--seed", o->seed, "random seed of the predictions")->capture_default_str();
+  cmd->add_option("--seed", o->seed, "random seed of the predictions")
+      ->check(cli::whole_in(std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max()))
+      ->capture_default_str();
   cmd->add_flag("--no-predict", o->no_predict, "record only; no simulator prediction per step");
   cmd->callback([o] { run_protocol(*o); });
 }

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <memory>
 
 #include <fcntl.h>
@@ -13,9 +14,12 @@
 #include <unistd.h>
 
 #include "command_registry.hpp"
+#include "numeric_options.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/devices/lab.hpp"
 #include "tocd/mocks/simulated_lab.hpp"
+
+namespace cli = tocd::cli;
 
 namespace {
 
@@ -108,12 +112,20 @@ void install_simlab(CLI::App& root) {
   cmd->add_option("--write-config", o->write_config,
                   "write a lab TOML pointing at the simulated instruments");
   cmd->add_option("--clock-factor", o->clock_factor, "simulated seconds per real second")
+      ->check(cli::real_above(0.0, 1e6))
       ->capture_default_str();
-  cmd->add_option("--source-power", o->source_power_W, "source power (W)")->capture_default_str();
+  cmd->add_option("--source-power", o->source_power_W, "source power (W)")
+      ->check(cli::real_above(0.0, 1000.0))
+      ->capture_default_str();
   cmd->add_option("--contact", o->contact_mm, "tester position where the pin touches the sample (mm)")
+      ->check(cli::real_in(-1000.0, 1000.0))
       ->capture_default_str();
-  cmd->add_option("--thickness", o->thickness_mm, "sample thickness (mm)")->capture_default_str();
-  cmd->add_option("--seed", o->seed, "noise seed")->capture_default_str();
+  cmd->add_option("--thickness", o->thickness_mm, "sample thickness (mm)")
+      ->check(cli::real_above(0.0, 100.0))
+      ->capture_default_str();
+  cmd->add_option("--seed", o->seed, "noise seed")
+      ->check(cli::whole_in(std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max()))
+      ->capture_default_str();
   cmd->add_flag("--no-vacuum", o->no_vacuum, "no vacuum controller");
   cmd->add_flag("--no-power-meter", o->no_power_meter, "no power meter");
   cmd->callback([o] { run_simlab(*o); });

@@ -3,6 +3,7 @@
 
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -10,9 +11,12 @@
 #include <fmt/format.h>
 
 #include "command_registry.hpp"
+#include "numeric_options.hpp"
 #include "tocd/core/atomic_file.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/sim/parallel/team.hpp"
+
+namespace cli = tocd::cli;
 
 namespace {
 
@@ -44,20 +48,27 @@ void run(const StudyOptions& o, const std::vector<st::StudyCase>& cases, int ref
 }
 
 void add_common(CLI::App* cmd, StudyOptions& o) {
-  cmd->add_option("--photons", o.settings.photons, "photons per simulation")->capture_default_str();
+  cmd->add_option("--photons", o.settings.photons, "photons per simulation")
+      ->check(cli::whole_in(std::uint64_t{1}, cli::kMaxPhotons))
+      ->capture_default_str();
   cmd->add_option("--mesh", o.settings.mesh_preset, "mesh preset: fast | paper")
       ->check(CLI::IsMember({"fast", "paper"}))
       ->capture_default_str();
-  cmd->add_option("--max-edge", o.settings.max_edge_mm, "override the preset's surface edge length (mm)");
+  cmd->add_option("--max-edge", o.settings.max_edge_mm, "override the preset's surface edge length (mm)")
+      ->check(cli::real_above(0.0, 100.0));
   cmd->add_option("--threads", o.settings.threads,
                   "Monte Carlo threads (0 = all cores; results do not depend on it)")
+      ->check(cli::whole_in(std::int64_t{0}, std::int64_t{cli::kMaxThreads}))
       ->capture_default_str();
   cmd->add_option("--seed", o.settings.seed, "random seed (the same for every simulation)")
+      ->check(cli::whole_in(std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max()))
       ->capture_default_str();
-  cmd->add_option("--batches", o.settings.batches, "batches for standard errors")->capture_default_str();
-  cmd->add_option(
-         "--split-photons", o.settings.split_photons,
-         "under MPI: simulations with at least this many photons share their batches among the ranks")
+  cmd->add_option("--batches", o.settings.batches, "batches for standard errors")
+      ->check(cli::whole_in(std::int64_t{2}, std::int64_t{1000000}))
+      ->capture_default_str();
+  cmd->add_option("--split-photons", o.settings.split_photons,
+                  "under MPI: simulations with at least this many photons share their batches among the ranks")
+      ->check(cli::whole_in(std::uint64_t{1}, std::numeric_limits<std::uint64_t>::max()))
       ->capture_default_str();
   cmd->add_option("--json", o.json_path, "write every number of the table (and each run's config) as JSON");
   cmd->add_option("--csv", o.csv_path, "write the table as CSV");
@@ -74,15 +85,18 @@ void install_study(CLI::App& root) {
   auto* paper = study->add_subcommand("paper", "The published study: simulations 0..11");
   add_common(paper, *o);
   paper->add_option("--thickness", o->thickness_mm, "skin thickness (mm); displacements keep their strains")
+      ->check(cli::real_above(0.0, 100.0))
       ->capture_default_str();
   paper->callback([o] { run(*o, st::paper_cases(o->settings, o->thickness_mm), 0, 3); });
 
   auto* sweep = study->add_subcommand("sweep", "Every displacement x thickness x optics combination");
   add_common(sweep, *o);
   sweep->add_option("--displacements", o->displacements, "pin displacements (mm), comma separated")
+      ->check(cli::real_in(0.0, 100.0))
       ->delimiter(',')
       ->required();
   sweep->add_option("--thickness", o->thicknesses, "skin thicknesses (mm), comma separated (default 2.5)")
+      ->check(cli::real_above(0.0, 100.0))
       ->delimiter(',');
   sweep
       ->add_option("--optics", o->optics,

@@ -57,6 +57,9 @@ class Database {
   int schema_version() const;
   /// Ids of the runs this open marked `interrupted`.
   const std::vector<std::int64_t>& interrupted_on_open() const noexcept;
+  /// The journal mode in force: "wal", unless SQLite could not switch the file to WAL
+  /// (then a warning was logged on open).
+  const std::string& journal_mode() const noexcept;
   /// PRAGMA integrity_check: "ok" or the problems found.
   std::string integrity_check() const;
 

@@ -54,7 +54,8 @@ struct CompareRow {
 /// (WAL recovery after a crash).
 ///
 /// Thread-safe (one connection behind a mutex). The file must exist and be a tocdlab
-/// database of the current schema; otherwise DatabaseError (the file is not modified).
+/// database of the current schema; otherwise DatabaseError (the file is not modified). The
+/// connection runs in SQLite's defensive mode with trusted_schema off.
 class Reader {
  public:
   explicit Reader(const std::filesystem::path& db_path);
@@ -63,6 +64,11 @@ class Reader {
   Reader& operator=(Reader&&) noexcept;
   Reader(const Reader&) = delete;
   Reader& operator=(const Reader&) = delete;
+
+  /// What opening found and logged (at warn): a damaged file (SQLite quick_check, run on
+  /// every open), or a WAL database read as it stands from a directory that is not writable.
+  /// Empty for a healthy file.
+  const std::vector<std::string>& warnings() const noexcept;
 
   std::vector<RunSummary> runs() const;  // ordered by id
   std::optional<RunRecord> find_run(std::int64_t run_id) const;

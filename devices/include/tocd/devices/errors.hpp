@@ -42,6 +42,13 @@ class ProtocolError : public DeviceError {
   using DeviceError::DeviceError;
 };
 
+/// The instrument answered with a well-formed number that cannot be a measurement (a negative
+/// optical power, SCPI's not-a-number code). The message quotes the answer.
+class InvalidReading : public ProtocolError {
+ public:
+  using ProtocolError::ProtocolError;
+};
+
 /// The instrument reports a fault of its own (limit tripped, SCPI error queue entry, ...).
 class InstrumentFault : public DeviceError {
  public:

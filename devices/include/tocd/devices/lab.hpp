@@ -48,10 +48,11 @@ struct LabConfig {
 };
 
 /// Parses lab TOML text. `source_name` (a file name) prefixes error messages, which name the
-/// line and key that is wrong. Throws ConfigError.
+/// line and key that is wrong. Throws ConfigError, also when the text names no instrument.
 LabConfig parse_lab_config(std::string_view toml_text, const std::string& source_name);
 
-/// Reads and parses a lab TOML file. Throws ConfigError (also when the file cannot be read).
+/// Reads and parses a lab TOML file. Throws ConfigError (also when the path cannot be read, is
+/// a directory, is empty or larger than 1 MiB).
 LabConfig load_lab_config(const std::filesystem::path& path);
 
 /// Writes a config back as TOML that parse_lab_config reads to the same LabConfig.

@@ -31,10 +31,17 @@ struct PowerMeterOptions {
   double zero_poll_s = 0.05;      ///< SENS:CORR:COLL:ZERO:STAT? poll interval
   double sample_time_s = 0.0003;  ///< time per averaged sample: lengthens waits for READ?/MEAS
   bool check_errors = true;       ///< SYST:ERR? after every setting
+  /// A zeroed sensor in the dark reads its noise, which straddles zero: readings down to
+  /// -negative_tolerance_W are kept as they are (clipping them would bias dark averages);
+  /// anything more negative is an InvalidReading. 1 uW covers photodiode sensors (noise of
+  /// nW) and the zero drift of thermal ones; a meter with no zero at all reads far beyond it.
+  double negative_tolerance_W = 1e-6;
 };
 
 /// Answers at or above this magnitude mean "over range" (SCPI 9.9E37 convention).
 inline constexpr double scpi_over_range = 9.0e37;
+/// SCPI's code for "not a number" (a failed measurement).
+inline constexpr double scpi_not_a_number = 9.91e37;
 
 /// PowerMeter over SCPI (either transport) with the Thorlabs PM100-class command subset, plus
 /// the SCPI operations the generic interface does not cover. Not thread-safe.

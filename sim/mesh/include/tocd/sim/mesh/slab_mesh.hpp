@@ -31,16 +31,25 @@ struct SlabSpec {
   double rotation_deg = 0.0;
 };
 
+/// Largest slab width, depth or layer thickness (mm): a metre is far beyond any sample.
+inline constexpr double kMaxSlabMm = 1000.0;
+/// Most cells across x and y (--slab-cells).
+inline constexpr int kMaxSlabCellsAcross = 1000;
+/// Most tets a built-in slab may have (about 1 GB once prepared for transport).
+inline constexpr std::int64_t kMaxSlabTets = 10'000'000;
+
 inline constexpr std::int32_t kSlabTopMarker = 1;
 inline constexpr std::int32_t kSlabBottomMarker = 2;
 inline constexpr std::int32_t kSlabSideMarker = 3;
 
 /// Parses "WxDxT" (one layer of region 1) or "WxD:T1@R1,T2@R2,..." (layers from the top
 /// down, thickness in mm @ region id), all in mm. `cells_across` sets cells_x = cells_y; each
-/// layer gets about cubic cells in z (at least 2). Throws tocd::ConfigError naming the text.
+/// layer gets about cubic cells in z (at least 2). Throws tocd::ConfigError naming the text
+/// and the accepted range (lengths up to kMaxSlabMm, cells_across up to kMaxSlabCellsAcross).
 SlabSpec parse_slab_spec(const std::string& text, int cells_across = 20);
 
-/// Builds the slab. Throws tocd::ConfigError on non-positive sizes or cell counts.
+/// Builds the slab. Throws tocd::ConfigError on sizes outside (0, kMaxSlabMm], cell counts
+/// below 1 or a slab of more than kMaxSlabTets tets, naming the value and the limit.
 TetMesh make_slab(const SlabSpec& spec);
 
 }  // namespace tocd::sim::mesh

@@ -6,6 +6,14 @@
 
 namespace tocd::sim::mesh {
 
+/// Most nodes, tets or boundary faces a mesh may have: node indices are int32, and 1e8 tets
+/// already take several GB once prepared. Readers refuse larger counts before allocating.
+inline constexpr std::int64_t kMaxMeshItems = 100'000'000;
+
+/// Largest |coordinate| accepted (mm): 1 km, far beyond any sample, and small enough that
+/// bounding boxes and volumes stay finite.
+inline constexpr double kMaxCoordinateMm = 1e6;
+
 /// A point in the simulator's frame, millimetres.
 using Point3 = std::array<double, 3>;
 
