@@ -22,11 +22,11 @@ void list_runs(const std::string& path) {
   std::cout << fmt::format("{:>4}  {:<12}  {:<24}  {:>5}  {:>11}  {:>6}  {}\n", "id", "status",
                            "started (UTC)", "steps", "predictions", "events", "name");
   for (const auto& s : runs) {
-    std::cout << fmt::format("{:>4}  {:<12}  {:<24}  {:>5}  {:>11}  {:>6}  {}
-", s.run.id,
-                             std::string(tocd::db::to_string(tocd::db::shown_status(s))) + (s.live ? "*" : ""),
-                             tocd::format_utc(s.run.started_utc_ns), s.steps, s.predictions, s.events,
-                             tocd::printable_text(s.run.name));  // names come from files: no raw controls
+    std::cout << fmt::format(
+        "{:>4}  {:<12}  {:<24}  {:>5}  {:>11}  {:>6}  {}\n", s.run.id,
+        std::string(tocd::db::to_string(tocd::db::shown_status(s))) + (s.live ? "*" : ""),
+        tocd::format_utc(s.run.started_utc_ns), s.steps, s.predictions, s.events,
+        tocd::printable_text(s.run.name));  // names come from files: no raw controls
   }
   for (const auto& s : runs) {
     if (s.live) {

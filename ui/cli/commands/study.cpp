@@ -66,8 +66,9 @@ void add_common(CLI::App* cmd, StudyOptions& o) {
   cmd->add_option("--batches", o.settings.batches, "batches for standard errors")
       ->check(cli::whole_in(std::int64_t{2}, std::int64_t{1000000}))
       ->capture_default_str();
-  cmd->add_option("--split-photons", o.settings.split_photons,
-                  "under MPI: simulations with at least this many photons share their batches among the ranks")
+  cmd->add_option(
+         "--split-photons", o.settings.split_photons,
+         "under MPI: simulations with at least this many photons share their batches among the ranks")
       ->check(cli::whole_in(std::uint64_t{1}, std::numeric_limits<std::uint64_t>::max()))
       ->capture_default_str();
   cmd->add_option("--json", o.json_path, "write every number of the table (and each run's config) as JSON");
