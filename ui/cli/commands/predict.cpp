@@ -12,6 +12,7 @@
 #include "tocd/sim/parallel/team.hpp"
 #include "tocd/sim/study/predictor.hpp"
 #include "tocd/sim/study/study.hpp"
+#include "vtu_format_option.hpp"
 
 namespace {
 
@@ -38,6 +39,7 @@ void run_predict(PredictOptions o) {
     r = st::request_from_config(j);
     r.threads = o.request.threads;
     r.fluence_dir = o.request.fluence_dir;
+    r.vtu_format = o.request.vtu_format;
   } else if (r.optics_model == "threshold") {
     std::string label;
     st::apply_optics(o.compressed, r, label);
@@ -115,6 +117,7 @@ void install_predict(CLI::App& root) {
   cmd->add_option("--config", o->config_path,
                   "reproduce a prediction from its config JSON (or its --json output)");
   cmd->add_option("--fluence-dir", r.fluence_dir, "write fluence .vtu and slice CSVs here");
+  tocd::cli::add_vtu_format_option(cmd, r.vtu_format);
   cmd->add_flag("--json", o->json, "machine-readable output with config and artefacts");
   cmd->callback([o] { run_predict(*o); });
 }

@@ -18,6 +18,7 @@
 #include "tocd/sim/mc/run.hpp"
 #include "tocd/sim/parallel/team.hpp"
 #include "tocd/sim/study/study_optics.hpp"
+#include "tocd/sim/vtk/vtu.hpp"
 
 namespace tocd::sim::study {
 
@@ -51,6 +52,7 @@ struct PredictionRequest {
   /// When not empty: per-tet fluence .vtu and two slice CSVs go to this folder, named
   /// `fluence_stem` (default "prediction"). Not part of the config.
   std::string fluence_dir, fluence_stem;
+  vtk::Format vtu_format = vtk::Format::binary;  ///< of the fluence .vtu; not part of the config
 };
 
 struct Prediction {
