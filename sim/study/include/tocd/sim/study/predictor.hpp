@@ -7,6 +7,7 @@
 #include <future>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -76,6 +77,18 @@ struct Prediction {
 nlohmann::json to_config(const PredictionRequest& request);
 /// The request a config describes; missing keys take their defaults. Throws ConfigError.
 PredictionRequest request_from_config(const nlohmann::json& config);
+/// A config document in any of the forms tocdlab writes: a bare config (to_config), the
+/// output of `tocdlab predict --json` (its "config"), or what a run stores in
+/// predictions.config_json: {"quantity", "step": config, "baseline": config}, whose T is the
+/// step's T relative to the glass-only baseline's.
+struct ConfigDocument {
+  PredictionRequest step;
+  std::optional<PredictionRequest> baseline;  ///< set for a T relative to a baseline
+  std::string quantity;                       ///< what T means, as stored ("" for a bare config)
+};
+/// Reads any of those forms. Throws tocd::ConfigError naming what is wrong.
+ConfigDocument config_document_from_json(const nlohmann::json& document);
+
 /// Checks ranges (displacement 0 <= d < thickness, photons > 0, known optics model and mesh
 /// preset ...). Throws tocd::ConfigError naming the field.
 void validate(const PredictionRequest& request);
