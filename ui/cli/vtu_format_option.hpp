@@ -1,6 +1,5 @@
 #pragma once
 
-#include <map>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -11,12 +10,11 @@ namespace tocd::cli {
 
 /// `--vtu-format binary|ascii` (default binary): how the command's .vtu files store arrays.
 inline CLI::Option* add_vtu_format_option(CLI::App* cmd, tocd::sim::vtk::Format& format) {
-  using tocd::sim::vtk::Format;
-  const std::map<std::string, Format> names{{"binary", Format::binary}, {"ascii", Format::ascii}};
   return cmd
-      ->add_option("--vtu-format", format,
-                   ".vtu storage: binary (zlib-compressed, the default) or ascii (plain text)")
-      ->transform(CLI::CheckedTransformer(names, CLI::ignore_case))
+      ->add_option_function<std::string>(
+          "--vtu-format", [&format](const std::string& name) { format = tocd::sim::vtk::parse_format(name); },
+          ".vtu storage: binary (zlib-compressed) or ascii (plain text)")
+      ->check(CLI::IsMember({"binary", "ascii"}))
       ->default_str("binary");
 }
 

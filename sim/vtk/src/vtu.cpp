@@ -7,9 +7,9 @@
 
 #include <algorithm>
 #include <bit>
-#include <cstring>
 #include <limits>
 #include <ostream>
+#include <type_traits>
 
 #include <fmt/format.h>
 #include <zlib.h>
