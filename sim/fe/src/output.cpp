@@ -1,8 +1,8 @@
 #include <algorithm>
-#include <fstream>
 
 #include <fmt/format.h>
 
+#include "tocd/core/error.hpp"
 #include "tocd/sim/fe/solve.hpp"
 
 namespace tocd::sim::fe {
@@ -59,40 +59,34 @@ nlohmann::json to_json(const FeResult& r, bool with_geometry) {
   return j;
 }
 
-void write_vtu(const FeStepResult& s, const std::filesystem::path& path) {
-  std::ofstream out(path);
-  if (!out) throw tocd::Error(fmt::format("cannot write {}", path.string()));
+void write_vtu(const FeStepResult& s, const std::filesystem::path& path, vtk::Format format) {
   const auto& m = s.mesh;
-  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
-         "byte_order=\"LittleEndian\" "
-         "header_type=\"UInt64\">\n<UnstructuredGrid>\n";
-  out << fmt::format("<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", m.nodes.size(), m.quads.size());
-  out << "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (const auto& p : m.nodes) out << fmt::format("{:.9g} {:.9g} 0\n", p.r_mm, p.z_mm);
-  out << "</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" "
-         "format=\"ascii\">\n";
-  for (const auto& q : m.quads) out << fmt::format("{} {} {} {}\n", q[0], q[1], q[2], q[3]);
-  out << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-  for (std::size_t i = 1; i <= m.quads.size(); ++i) out << 4 * i << (i % 16 == 0 ? '\n' : ' ');
-  out << "\n</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
-  for (std::size_t i = 1; i <= m.quads.size(); ++i) out << "9" << (i % 32 == 0 ? '\n' : ' ');  // VTK_QUAD
-  out << "\n</DataArray>\n</Cells>\n<PointData Vectors=\"displacement\">\n"
-         "<DataArray type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (const auto& d : s.displacement) out << fmt::format("{:.9g} {:.9g} 0\n", d.r_mm, d.z_mm);
-  out << "</DataArray>\n</PointData>\n<CellData Scalars=\"min_log_strain\">\n";
-  auto doubles = [&](const char* name, const std::vector<double>& v) {
-    out << fmt::format("<DataArray type=\"Float64\" Name=\"{}\" format=\"ascii\">\n", name);
-    for (std::size_t i = 0; i < v.size(); ++i)
-      out << fmt::format("{:.9g}{}", v[i], (i + 1) % 8 == 0 ? '\n' : ' ');
-    out << "\n</DataArray>\n";
-  };
-  doubles("min_log_strain", s.element_min_log_strain);
-  doubles("J", s.element_J);
-  out << "<DataArray type=\"UInt8\" Name=\"compressed\" format=\"ascii\">\n";
-  for (std::size_t i = 0; i < s.element_min_log_strain.size(); ++i)
-    out << (s.element_min_log_strain[i] <= -0.5 ? 1 : 0) << ((i + 1) % 32 == 0 ? '\n' : ' ');
-  out << "\n</DataArray>\n</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
-  if (!out) throw tocd::Error(fmt::format("error writing {}", path.string()));
+  if (s.displacement.size() != m.nodes.size())
+    throw tocd::Error(
+        fmt::format("FE step: {} displacements for {} nodes", s.displacement.size(), m.nodes.size()));
+  // One convention (docs/fe.md): points at their reference (undeformed) place plus the
+  // displacement field, so ParaView's Warp By Vector at scale 1 shows the deformed shape
+  // once. The step holds the deformed mesh; reference = deformed - displacement.
+  vtk::UnstructuredGrid g;
+  g.points_xyz.reserve(3 * m.nodes.size());
+  std::vector<double> displacement;
+  displacement.reserve(3 * m.nodes.size());
+  for (std::size_t n = 0; n < m.nodes.size(); ++n) {
+    const Point2 u = s.displacement[n];
+    g.points_xyz.insert(g.points_xyz.end(), {m.nodes[n].r_mm - u.r_mm, m.nodes[n].z_mm - u.z_mm, 0.0});
+    displacement.insert(displacement.end(), {u.r_mm, u.z_mm, 0.0});
+  }
+  for (const auto& q : m.quads) g.connectivity.insert(g.connectivity.end(), {q[0], q[1], q[2], q[3]});
+  g.nodes_per_cell = 4;
+  g.cell_type = 9;  // VTK_QUAD
+  g.point_data.push_back({"displacement", 3, std::move(displacement)});
+  g.active_point_vectors = "displacement";
+  std::vector<std::uint8_t> compressed;
+  for (const double e : s.element_min_log_strain) compressed.push_back(e <= -0.5 ? 1 : 0);
+  g.cell_data.push_back({"min_log_strain", 1, s.element_min_log_strain});
+  g.cell_data.push_back({"J", 1, s.element_J});
+  g.cell_data.push_back({"compressed", 1, std::move(compressed)});
+  vtk::write_vtu(g, path, format);
 }
 
 }  // namespace tocd::sim::fe

@@ -155,6 +155,7 @@ StudyTable run_study(Predictor& predictor, const std::vector<StudyCase>& cases, 
     if (progress) progress(t.rows.back());
   }
   t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  t.fluence_series = write_fluence_series(t);
   return t;
 }
 

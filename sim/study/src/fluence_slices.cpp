@@ -157,13 +157,13 @@ FluenceFiles fluence_file_names(const std::filesystem::path& dir, const std::str
 }
 
 FluenceFiles write_fluence_files(const mc::PreparedMesh& mesh, const mc::Result& result, double tip_z_mm,
-                                 const std::filesystem::path& dir, const std::string& stem,
-                                 double spacing_mm) {
+                                 const std::filesystem::path& dir, const std::string& stem, double spacing_mm,
+                                 vtk::Format vtu_format) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw tocd::Error(fmt::format("cannot create fluence folder {}: {}", dir.string(), ec.message()));
   const FluenceFiles files = fluence_file_names(dir, stem);
-  mc::write_fluence_vtu(mesh, result, files.vtu);
+  mc::write_fluence_vtu(mesh, result, files.vtu, vtu_format);
   const TetLocator locator(mesh.mesh);
   const auto grids = standard_slices(mesh.box, tip_z_mm, spacing_mm);
   write_slice_csv(sample_slice(mesh.mesh, locator, result, grids[0]), files.horizontal_csv);

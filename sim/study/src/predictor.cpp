@@ -272,7 +272,7 @@ void Predictor::complete(const PredictionRequest& r, Staged& st, const mc::Resul
     const auto files = fluence_file_names(r.fluence_dir, stem);
     // Every member of a team has the same result; one writes it.
     if (!team_ || team_->rank() == 0)
-      write_fluence_files(st.prepared->prepared, res, tip_z, r.fluence_dir, stem);
+      write_fluence_files(st.prepared->prepared, res, tip_z, r.fluence_dir, stem, 0.05, r.vtu_format);
     out.fluence = {{"vtu", files.vtu.string()},
                    {"horizontal_csv", files.horizontal_csv.string()},
                    {"vertical_csv", files.vertical_csv.string()},

@@ -105,4 +105,31 @@ PredictionRequest request_from_config(const nlohmann::json& j) {
   return r;
 }
 
+ConfigDocument config_document_from_json(const nlohmann::json& document) {
+  const nlohmann::json* j = &document;
+  // `predict --json` output: the config is one level down.
+  if (j->is_object() && j->contains("config") && j->at("config").is_object()) j = &j->at("config");
+  ConfigDocument d;
+  if (!j->is_object() || !j->contains("step")) {
+    d.step = request_from_config(*j);
+    return d;
+  }
+  // A run's stored prediction: T(step) / T(baseline), each with its own full config.
+  if (!j->at("step").is_object())
+    throw tocd::ConfigError("prediction config: \"step\" must be a prediction config object");
+  d.step = request_from_config(j->at("step"));
+  if (j->contains("baseline")) {
+    if (!j->at("baseline").is_object())
+      throw tocd::ConfigError(
+          "prediction config: \"baseline\" beside \"step\" must be a prediction config object");
+    d.baseline = request_from_config(j->at("baseline"));
+  }
+  if (j->contains("quantity")) {
+    if (!j->at("quantity").is_string())
+      throw tocd::ConfigError("prediction config: \"quantity\" must be a string");
+    d.quantity = j->at("quantity").get<std::string>();
+  }
+  return d;
+}
+
 }  // namespace tocd::sim::study

@@ -23,6 +23,7 @@ PredictionRequest base_request(const StudySettings& s) {
   r.batches = s.batches;
   r.max_edge_mm = s.max_edge_mm;
   r.fluence_dir = s.fluence_dir;
+  r.vtu_format = s.vtu_format;
   r.compressed_optics = native_skin_optics();
   r.compressed_optics.name = "compressed skin";
   return r;
@@ -200,6 +201,7 @@ StudyTable run_study(Predictor& predictor, const std::vector<StudyCase>& cases, 
     if (progress) progress(t.rows.back());
   }
   t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  t.fluence_series = write_fluence_series(t);
   return t;
 }
 
@@ -237,6 +239,7 @@ nlohmann::json to_json(const StudyTable& t) {
   j["reference_a"] = t.ref_a;
   j["reference_b"] = t.ref_b;
   j["seconds"] = t.seconds;
+  if (!t.fluence_series.empty()) j["fluence_series"] = t.fluence_series;
   auto& rows = j["simulations"] = nlohmann::json::array();
   for (const auto& r : t.rows) {
     nlohmann::json row;

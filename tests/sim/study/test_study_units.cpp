@@ -299,6 +299,36 @@ TEST(StudyConfig, RoundTripsAndRejectsBadRequests) {
   EXPECT_THROW(st::request_from_config(nlohmann::json::array()), tocd::ConfigError);
 }
 
+TEST(PredictionConfig, DocumentsInEveryFormTocdlabWritesAreRead) {
+  st::PredictionRequest step;
+  step.displacement_mm = 0.5;
+  step.seed = 7;
+  st::PredictionRequest base = step;
+  base.baseline = true;
+  base.seed = 8;
+  const auto bare = st::config_document_from_json(st::to_config(step));
+  EXPECT_EQ(st::to_config(bare.step), st::to_config(step));
+  EXPECT_FALSE(bare.baseline.has_value());
+  // `predict --json` output: the config under "config".
+  const auto output = st::config_document_from_json({{"T", 0.3}, {"config", st::to_config(step)}});
+  EXPECT_EQ(st::to_config(output.step), st::to_config(step));
+  // What a run stores: the step and its glass-only baseline, each a whole config.
+  const nlohmann::json stored = {{"quantity", "T(step) / T(glass-only baseline)"},
+                                 {"step", st::to_config(step)},
+                                 {"baseline", st::to_config(base)}};
+  const auto relative = st::config_document_from_json(stored);
+  EXPECT_EQ(st::to_config(relative.step), st::to_config(step));
+  ASSERT_TRUE(relative.baseline.has_value());
+  EXPECT_TRUE(relative.baseline->baseline);
+  EXPECT_EQ(relative.baseline->seed, 8u);
+  EXPECT_EQ(relative.quantity, "T(step) / T(glass-only baseline)");
+  // ... and the same wrapped in a relative prediction's own --json output.
+  EXPECT_EQ(st::config_document_from_json({{"config", stored}}).baseline->seed, 8u);
+  EXPECT_THROW(st::config_document_from_json({{"step", st::to_config(step)}, {"baseline", true}}),
+               tocd::ConfigError);
+  EXPECT_THROW(st::config_document_from_json({{"step", "x"}}), tocd::ConfigError);
+}
+
 TEST(StudyCases, PaperCasesFollowTheModelNote) {
   st::StudySettings s;
   const auto cases = st::paper_cases(s);

@@ -11,6 +11,7 @@
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
 #include "tocd/sim/fe/solve.hpp"
+#include "vtu_format_option.hpp"
 
 namespace cli = tocd::cli;
 
@@ -20,6 +21,7 @@ struct FeOptions {
   std::string displacements = "0.625,1.25,1.5", bottom = "bonded", kinematics = "axi", vtu;
   double thickness_mm = 2.5, outer_radius_mm = 6.25, pin_radius_mm = 1.5, refinement = 1.0, depth_mm = 1.0;
   bool json = false;
+  tocd::sim::vtk::Format vtu_format = tocd::sim::vtk::Format::binary;
 };
 
 std::vector<double> parse_list(const std::string& s) {
@@ -63,7 +65,7 @@ void run_fe(const FeOptions& o) {
   const fe::FeResult r = fe::solve(m, parse_list(o.displacements));
   if (!o.vtu.empty())
     for (std::size_t k = 0; k < r.steps.size(); ++k)
-      fe::write_vtu(r.steps[k], step_path(o.vtu, k, r.steps.size()));
+      fe::write_vtu(r.steps[k], step_path(o.vtu, k, r.steps.size()), o.vtu_format);
   if (o.json) {
     std::cout << fe::to_json(r).dump(2) << '\n';
     return;
@@ -109,6 +111,7 @@ void install_fe(CLI::App& root) {
       ->capture_default_str();
   cmd->add_flag("--json", o->json, "machine-readable output");
   cmd->add_option("--vtu", o->vtu, "write the deformed mesh (.vtu, one file per step: NAME_k.vtu)");
+  tocd::cli::add_vtu_format_option(cmd, o->vtu_format);
   cmd->callback([o] { run_fe(*o); });
 }
 

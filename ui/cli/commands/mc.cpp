@@ -18,6 +18,7 @@
 #include "tocd/sim/mesh/slab_mesh.hpp"
 #include "tocd/sim/mesh/tetgen_io.hpp"
 #include "tocd/sim/parallel/team.hpp"
+#include "vtu_format_option.hpp"
 
 namespace cli = tocd::cli;
 
@@ -30,6 +31,7 @@ struct McOptions {
   int threads = 1, batches = 20;
   std::optional<double> ambient_n;
   bool json = false;
+  tocd::sim::vtk::Format vtu_format = tocd::sim::vtk::Format::binary;
 };
 
 void print_text(const tocd::sim::mc::Result& r, const std::string& source) {
@@ -70,7 +72,7 @@ void run_mc(const McOptions& o) {
   s.tally_per_tet = !o.vtu.empty();
   s.team = &tocd::sim::parallel::world();  // under mpirun the ranks share the photons
   const mc::Result r = mc::run(mesh, optics, source, s);
-  if (!o.vtu.empty() && s.team->rank() == 0) mc::write_fluence_vtu(mesh, r, o.vtu);
+  if (!o.vtu.empty() && s.team->rank() == 0) mc::write_fluence_vtu(mesh, r, o.vtu, o.vtu_format);
   if (o.json) {
     nlohmann::json j = mc::to_json(r);
     j["source"] = mc::describe(source);
@@ -113,6 +115,7 @@ void install_mc(CLI::App& root) {
       ->check(cli::real_in(1.0, 5.0));
   cmd->add_flag("--json", o->json, "machine-readable output");
   cmd->add_option("--vtu", o->vtu, "write per-tet fluence to this .vtu file (ParaView)");
+  tocd::cli::add_vtu_format_option(cmd, o->vtu_format);
   cmd->callback([o] { run_mc(*o); });
 }
 

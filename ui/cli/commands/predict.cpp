@@ -3,6 +3,7 @@
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <fmt/format.h>
@@ -10,10 +11,12 @@
 
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
+#include "tocd/acquisition/sim_step_predictor.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/sim/parallel/team.hpp"
 #include "tocd/sim/study/predictor.hpp"
 #include "tocd/sim/study/study.hpp"
+#include "vtu_format_option.hpp"
 
 namespace cli = tocd::cli;
 
@@ -27,49 +30,29 @@ struct PredictOptions {
   bool json = false;
 };
 
-void run_predict(PredictOptions o) {
-  st::PredictionRequest r = o.request;
-  if (!o.config_path.empty()) {
-    std::ifstream in(o.config_path);
-    if (!in) throw tocd::ConfigError(fmt::format("cannot read prediction config {}", o.config_path));
-    nlohmann::json j;
-    try {
-      in >> j;
-    } catch (const nlohmann::json::exception& e) {
-      throw tocd::ConfigError(fmt::format("{}: not JSON ({})", o.config_path, e.what()));
-    }
-    if (j.contains("config")) j = j.at("config");  // a prediction's own JSON output
-    r = st::request_from_config(j);
-    r.threads = o.request.threads;
-    r.fluence_dir = o.request.fluence_dir;
-  } else if (r.optics_model == "threshold") {
-    std::string label;
-    st::apply_optics(o.compressed, r, label);
-  }
-  st::Predictor predictor(1, &tocd::sim::parallel::world());  // under mpirun the ranks share the photons
-  const st::Prediction p = predictor.predict(r);
-  if (o.json) {
-    nlohmann::json j = {{"T", p.T},
-                        {"T_se", p.T_stderr},
-                        {"side_loss", p.side_loss},
-                        {"side_loss_se", p.side_loss_stderr},
-                        {"side_loss_slide", p.side_loss_slide},
-                        {"side_loss_slide_se", p.side_loss_slide_stderr},
-                        {"reflectance", p.reflectance},
-                        {"absorbed", p.absorbed},
-                        {"specular", p.specular},
-                        {"tets", p.tets},
-                        {"fe_seconds", p.fe_seconds},
-                        {"mesh_seconds", p.mesh_seconds},
-                        {"mc_seconds", p.mc_seconds},
-                        {"config", p.config},
-                        {"fe_summary", p.fe_summary},
-                        {"mesh_stats", p.mesh_stats},
-                        {"mc", p.mc}};
-    if (!p.fluence.is_null()) j["fluence"] = p.fluence;
-    std::cout << j.dump(2) << '\n';
-    return;
-  }
+nlohmann::json prediction_json(const st::Prediction& p) {
+  nlohmann::json j = {{"T", p.T},
+                      {"T_se", p.T_stderr},
+                      {"side_loss", p.side_loss},
+                      {"side_loss_se", p.side_loss_stderr},
+                      {"side_loss_slide", p.side_loss_slide},
+                      {"side_loss_slide_se", p.side_loss_slide_stderr},
+                      {"reflectance", p.reflectance},
+                      {"absorbed", p.absorbed},
+                      {"specular", p.specular},
+                      {"tets", p.tets},
+                      {"fe_seconds", p.fe_seconds},
+                      {"mesh_seconds", p.mesh_seconds},
+                      {"mc_seconds", p.mc_seconds},
+                      {"config", p.config},
+                      {"fe_summary", p.fe_summary},
+                      {"mesh_stats", p.mesh_stats},
+                      {"mc", p.mc}};
+  if (!p.fluence.is_null()) j["fluence"] = p.fluence;
+  return j;
+}
+
+void print_prediction(const st::PredictionRequest& r, const st::Prediction& p) {
   std::cout << fmt::format("d = {} mm into {} mm skin, optics {} ({}), {} photons, seed {}, mesh '{}'\n",
                            r.displacement_mm, r.thickness_mm, r.optics_model,
                            r.optics_model == "graded" ? "strain-graded" : r.compressed_optics.name, r.photons,
@@ -89,6 +72,70 @@ void run_predict(PredictOptions o) {
     std::cout << fmt::format("  fluence: {}, {}, {}\n", p.fluence["vtu"].get<std::string>(),
                              p.fluence["horizontal_csv"].get<std::string>(),
                              p.fluence["vertical_csv"].get<std::string>());
+}
+
+st::ConfigDocument read_config(const PredictOptions& o) {
+  std::ifstream in(o.config_path);
+  if (!in) throw tocd::ConfigError(fmt::format("cannot read prediction config {}", o.config_path));
+  nlohmann::json j;
+  try {
+    in >> j;
+  } catch (const nlohmann::json::exception& e) {
+    throw tocd::ConfigError(fmt::format("{}: not JSON ({})", o.config_path, e.what()));
+  }
+  st::ConfigDocument d = st::config_document_from_json(j);
+  // Threads and output files do not change the answer: they come from this command line.
+  for (st::PredictionRequest* r : {&d.step, d.baseline ? &*d.baseline : nullptr}) {
+    if (!r) continue;
+    r->threads = o.request.threads;
+    r->fluence_dir = o.request.fluence_dir;
+    r->vtu_format = o.request.vtu_format;
+  }
+  if (d.baseline) d.baseline->fluence_stem = "baseline";
+  return d;
+}
+
+// A run's stored prediction: T(step) / T(baseline), computed as the run engine computes it.
+void run_relative(const st::ConfigDocument& d, const st::Prediction& p, const st::Prediction& b, bool json) {
+  const auto rel = tocd::acquisition::relative_to_baseline(p.T, p.T_stderr, b.T, b.T_stderr);
+  if (json) {
+    nlohmann::json j = {{"quantity", d.quantity},
+                        {"T", rel.T},
+                        {"T_se", rel.T_stderr},
+                        {"config", {{"quantity", d.quantity}, {"step", p.config}, {"baseline", b.config}}},
+                        {"step", prediction_json(p)},
+                        {"baseline", prediction_json(b)}};
+    std::cout << j.dump(2) << '\n';
+    return;
+  }
+  std::cout << fmt::format("T = {}: {:.6f} +- {:.6f}\nstep: ",
+                           d.quantity.empty() ? "T(step) / T(baseline)" : d.quantity, rel.T, rel.T_stderr);
+  print_prediction(d.step, p);
+  std::cout << "baseline: ";
+  print_prediction(*d.baseline, b);
+}
+
+void run_predict(PredictOptions o) {
+  st::PredictionRequest r = o.request;
+  std::optional<st::ConfigDocument> document;
+  if (!o.config_path.empty()) {
+    document = read_config(o);
+    r = document->step;
+  } else if (r.optics_model == "threshold") {
+    std::string label;
+    st::apply_optics(o.compressed, r, label);
+  }
+  st::Predictor predictor(1, &tocd::sim::parallel::world());  // under mpirun the ranks share the photons
+  const st::Prediction p = predictor.predict(r);
+  if (document && document->baseline) {
+    run_relative(*document, p, predictor.predict(*document->baseline), o.json);
+    return;
+  }
+  if (o.json) {
+    std::cout << prediction_json(p).dump(2) << '\n';
+    return;
+  }
+  print_prediction(r, p);
 }
 
 void install_predict(CLI::App& root) {
@@ -132,8 +179,10 @@ void install_predict(CLI::App& root) {
       ->capture_default_str();
   cmd->add_flag("--baseline", r.baseline, "glass only: pin tip on the slide, no skin");
   cmd->add_option("--config", o->config_path,
-                  "reproduce a prediction from its config JSON (or its --json output)");
+                  "reproduce a prediction from its config JSON, its --json output, or a run's stored "
+                  "predictions.config_json (T relative to the glass-only baseline)");
   cmd->add_option("--fluence-dir", r.fluence_dir, "write fluence .vtu and slice CSVs here");
+  tocd::cli::add_vtu_format_option(cmd, r.vtu_format);
   cmd->add_flag("--json", o->json, "machine-readable output with config and artefacts");
   cmd->callback([o] { run_predict(*o); });
 }

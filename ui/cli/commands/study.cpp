@@ -15,6 +15,7 @@
 #include "tocd/core/atomic_file.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/sim/parallel/team.hpp"
+#include "vtu_format_option.hpp"
 
 namespace cli = tocd::cli;
 
@@ -74,7 +75,9 @@ void add_common(CLI::App* cmd, StudyOptions& o) {
   cmd->add_option("--json", o.json_path, "write every number of the table (and each run's config) as JSON");
   cmd->add_option("--csv", o.csv_path, "write the table as CSV");
   cmd->add_option("--fluence-dir", o.settings.fluence_dir,
-                  "write per-tet fluence (.vtu) and horizontal/vertical slices (.csv) per simulation here");
+                  "write per-tet fluence (.vtu) and horizontal/vertical slices (.csv) per simulation, and "
+                  "their ParaView series fluence.pvd, here");
+  tocd::cli::add_vtu_format_option(cmd, o.settings.vtu_format);
 }
 
 void install_study(CLI::App& root) {

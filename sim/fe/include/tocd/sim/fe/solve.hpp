@@ -7,6 +7,7 @@
 
 #include "tocd/sim/fe/model.hpp"
 #include "tocd/sim/fe/result.hpp"
+#include "tocd/sim/vtk/vtu.hpp"
 
 namespace tocd::sim::fe {
 
@@ -20,8 +21,11 @@ FeResult solve(const FeModel& model, const std::vector<double>& displacements_mm
 /// JSON summary (docs/fe.md): model, per-step force, areas, iterations, outlines.
 nlohmann::json to_json(const FeResult& result, bool with_geometry = true);
 
-/// VTK XML unstructured grid of one step: deformed quads, point displacement, cell
-/// min_log_strain, J and compressed flag. Throws tocd::Error when it cannot be written.
-void write_vtu(const FeStepResult& step, const std::filesystem::path& path);
+/// VTK XML unstructured grid of one step (zlib-compressed binary by default, ASCII on
+/// request), written atomically: the quads at their reference (undeformed) coordinates, the
+/// point displacement (Warp By Vector at scale 1 gives the deformed shape), and per cell
+/// min_log_strain, J and the compressed flag. Throws tocd::Error when it cannot be written.
+void write_vtu(const FeStepResult& step, const std::filesystem::path& path,
+               vtk::Format format = vtk::Format::binary);
 
 }  // namespace tocd::sim::fe

@@ -6,6 +6,7 @@
 
 #include "tocd/sim/mc/prepared_mesh.hpp"
 #include "tocd/sim/mc/run.hpp"
+#include "tocd/sim/vtk/vtu.hpp"
 
 namespace tocd::sim::mc {
 
@@ -14,10 +15,12 @@ namespace tocd::sim::mc {
 /// {"mean", "se"}, exit_by_marker, absorbed_by_region, events, seconds, photons_per_second.
 nlohmann::json to_json(const Result& result);
 
-/// Writes a VTK XML UnstructuredGrid (.vtu, ASCII) with the tets and, per cell, region,
-/// fluence (mm^-2 per launched weight), its standard error and the absorbed weight.
-/// ParaView opens it directly. Throws tocd::Error when the file cannot be written or the
-/// result holds no per-tet tallies.
-void write_fluence_vtu(const PreparedMesh& mesh, const Result& result, const std::filesystem::path& path);
+/// Writes a VTK XML UnstructuredGrid (.vtu; zlib-compressed binary by default, ASCII on
+/// request) with the tets and, per cell, fluence (mm^-2 per launched weight), its standard
+/// error, the absorbed weight and the region. ParaView opens it directly. Written
+/// atomically. Throws tocd::Error when the file cannot be written or the result holds no
+/// per-tet tallies.
+void write_fluence_vtu(const PreparedMesh& mesh, const Result& result, const std::filesystem::path& path,
+                       vtk::Format format = vtk::Format::binary);
 
 }  // namespace tocd::sim::mc

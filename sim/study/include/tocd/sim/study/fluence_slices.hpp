@@ -8,6 +8,7 @@
 #include "tocd/sim/mc/prepared_mesh.hpp"
 #include "tocd/sim/mc/run.hpp"
 #include "tocd/sim/mesh/tet_mesh.hpp"
+#include "tocd/sim/vtk/vtu.hpp"
 
 namespace tocd::sim::study {
 
@@ -71,6 +72,6 @@ FluenceFiles fluence_file_names(const std::filesystem::path& dir, const std::str
 /// (creating DIR). Throws tocd::Error when a file cannot be written.
 FluenceFiles write_fluence_files(const mc::PreparedMesh& mesh, const mc::Result& result, double tip_z_mm,
                                  const std::filesystem::path& dir, const std::string& stem,
-                                 double spacing_mm = 0.05);
+                                 double spacing_mm = 0.05, vtk::Format vtu_format = vtk::Format::binary);
 
 }  // namespace tocd::sim::study

@@ -7,6 +7,7 @@
 #include <future>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -18,6 +19,7 @@
 #include "tocd/sim/mc/run.hpp"
 #include "tocd/sim/parallel/team.hpp"
 #include "tocd/sim/study/study_optics.hpp"
+#include "tocd/sim/vtk/vtu.hpp"
 
 namespace tocd::sim::study {
 
@@ -51,6 +53,7 @@ struct PredictionRequest {
   /// When not empty: per-tet fluence .vtu and two slice CSVs go to this folder, named
   /// `fluence_stem` (default "prediction"). Not part of the config.
   std::string fluence_dir, fluence_stem;
+  vtk::Format vtu_format = vtk::Format::binary;  ///< of the fluence .vtu; not part of the config
 };
 
 struct Prediction {
@@ -74,6 +77,18 @@ struct Prediction {
 nlohmann::json to_config(const PredictionRequest& request);
 /// The request a config describes; missing keys take their defaults. Throws ConfigError.
 PredictionRequest request_from_config(const nlohmann::json& config);
+/// A config document in any of the forms tocdlab writes: a bare config (to_config), the
+/// output of `tocdlab predict --json` (its "config"), or what a run stores in
+/// predictions.config_json: {"quantity", "step": config, "baseline": config}, whose T is the
+/// step's T relative to the glass-only baseline's.
+struct ConfigDocument {
+  PredictionRequest step;
+  std::optional<PredictionRequest> baseline;  ///< set for a T relative to a baseline
+  std::string quantity;                       ///< what T means, as stored ("" for a bare config)
+};
+/// Reads any of those forms. Throws tocd::ConfigError naming what is wrong.
+ConfigDocument config_document_from_json(const nlohmann::json& document);
+
 /// Checks ranges (displacement 0 <= d < thickness, photons > 0, known optics model and mesh
 /// preset ...). Throws tocd::ConfigError naming the field.
 void validate(const PredictionRequest& request);

@@ -25,7 +25,8 @@ struct StudySettings {
   int threads = 0;
   int batches = 20;
   double max_edge_mm = 0;
-  std::string fluence_dir;  ///< per-simulation fluence files when not empty
+  std::string fluence_dir;                       ///< per-simulation fluence files when not empty
+  vtk::Format vtu_format = vtk::Format::binary;  ///< of the fluence .vtu files
   /// Across MPI ranks: a simulation with at least this many photons has its batches shared
   /// among the ranks; smaller ones run whole on one rank. Results are the same either way.
   std::uint64_t split_photons = 10'000'000;
@@ -62,7 +63,13 @@ struct StudyTable {
   int ref_a = 0, ref_b = 3;  ///< ids the relative columns refer to (-1: none)
   StudySettings settings;
   double seconds = 0;
+  std::string fluence_series;  ///< the .pvd listing the fluence files, when they were written
 };
+
+/// Writes fluence.pvd beside the fluence files (the study's fluence_dir), the ParaView series of the table's
+/// fluence .vtu files (one dataset per simulation, timestep = simulation id), and returns its path; does
+/// nothing and returns "" when the table has no fluence files. run_study calls it. Throws tocd::Error.
+std::string write_fluence_series(const StudyTable& table);
 
 /// A row for case `c` before it runs: its request with the fluence file stem, its strain.
 StudyRow start_row(const StudyCase& c);

@@ -1,0 +1,21 @@
+#pragma once
+
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "tocd/sim/vtk/vtu.hpp"
+
+namespace tocd::cli {
+
+/// `--vtu-format binary|ascii` (default binary): how the command's .vtu files store arrays.
+inline CLI::Option* add_vtu_format_option(CLI::App* cmd, tocd::sim::vtk::Format& format) {
+  return cmd
+      ->add_option_function<std::string>(
+          "--vtu-format", [&format](const std::string& name) { format = tocd::sim::vtk::parse_format(name); },
+          ".vtu storage: binary (zlib-compressed) or ascii (plain text)")
+      ->check(CLI::IsMember({"binary", "ascii"}))
+      ->default_str("binary");
+}
+
+}  // namespace tocd::cli
