@@ -138,13 +138,12 @@ void run_demo(const DemoOptions& o) {
   std::string error;
   {
     acq::Engine engine(db, std::move(instruments), eo, predictor, &progress);
-    signals.attach(&engine);
+    const tocd::cli::AbortOnSignal::Attached attached(signals, engine);
     run_id = engine.start(protocol);
     std::cout << fmt::format("run {} ({} steps) recording into {}", run_id, protocol.steps.size(), o.db)
               << std::endl;
     final_state = engine.wait();
     error = engine.error();
-    signals.attach(nullptr);
   }
 
   // 4. Measured vs. predicted, on the terminal and as CSV.

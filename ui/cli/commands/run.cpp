@@ -108,14 +108,13 @@ void run_protocol(const RunOptions& o) {
           std::make_shared<acq::SimStepPredictor>(std::make_shared<tocd::sim::study::Predictor>(1), ps);
     }
     acq::Engine engine(db, std::move(instruments), eo, predictor, &progress);
-    signals.attach(&engine);
+    const tocd::cli::AbortOnSignal::Attached attached(signals, engine);
     run_id = o.resume ? engine.resume(*o.resume) : engine.start(protocol);
     std::cout << fmt::format("run {} ({} steps) recording into {}", run_id, protocol.steps.size(), o.db)
               << std::endl;
     final_state = engine.wait();
     error = engine.error();
     stats = engine.stats();
-    signals.attach(nullptr);
   }
   std::cout << '\n' << acq::format_compare_table(acq::compare_table(tocd::db::Reader(o.db), run_id));
   const std::string again = fmt::format("tocdlab run --resume {} --db {} {}", run_id, o.db,

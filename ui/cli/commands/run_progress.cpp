@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <mutex>
 #include <thread>
 
 #include <fmt/format.h>
@@ -74,8 +75,13 @@ void TerminalProgress::on_event(const db::EventRecord& e) {
 
 struct AbortOnSignal::Impl {
   sigset_t set{}, old{};
-  std::atomic<acquisition::Engine*> engine{nullptr};
-  std::atomic<bool> done{false}, pending{false};
+  // Held by the watcher for the whole call on `engine`, and by attach(): once attach(nullptr)
+  // has returned, no call on the engine it detached is running or can start, so the owner may
+  // destroy that engine.
+  std::mutex mu;
+  acquisition::Engine* engine = nullptr;  // guarded by mu
+  bool pending = false;                   // guarded by mu
+  std::atomic<bool> done{false};
   int signals_seen = 0;  // watcher thread only
   std::thread watcher;
 };
@@ -91,7 +97,8 @@ AbortOnSignal::AbortOnSignal(std::ostream& err) : impl_(new Impl) {
       const int sig = sigtimedwait(&impl_->set, nullptr, &slice);
       if (sig != SIGINT && sig != SIGTERM) continue;
       const char* name = sig == SIGINT ? "SIGINT" : "SIGTERM";
-      if (auto* e = impl_->engine.load()) {
+      std::lock_guard lock(impl_->mu);
+      if (auto* e = impl_->engine) {
         if (++impl_->signals_seen == 1) {
           err << "\n"
               << name << ": aborting (retracting the pin, keeping the data); again to stop the pin at once"
@@ -117,6 +124,7 @@ AbortOnSignal::~AbortOnSignal() {
 }
 
 void AbortOnSignal::attach(acquisition::Engine* engine) {
+  std::lock_guard lock(impl_->mu);
   impl_->engine = engine;
   if (engine && impl_->pending) engine->abort("signal received while starting");
 }

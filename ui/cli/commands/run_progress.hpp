@@ -39,7 +39,24 @@ class AbortOnSignal {
  public:
   explicit AbortOnSignal(std::ostream& err);
   ~AbortOnSignal();
+  /// Signals go to `engine` from now on (nullptr: to none). When attach() returns, no call on
+  /// the engine attached before is running, so its owner may destroy it.
   void attach(acquisition::Engine* engine);
+
+  /// Attaches an engine for its own lifetime: declared after the engine, it detaches it before
+  /// the engine is destroyed, an exception from start() or wait() included.
+  class Attached {
+   public:
+    Attached(AbortOnSignal& signals, acquisition::Engine& engine) : signals_(signals) {
+      signals_.attach(&engine);
+    }
+    ~Attached() { signals_.attach(nullptr); }
+    Attached(const Attached&) = delete;
+    Attached& operator=(const Attached&) = delete;
+
+   private:
+    AbortOnSignal& signals_;
+  };
 
  private:
   struct Impl;
