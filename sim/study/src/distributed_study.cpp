@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 
+#include "table_builder.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/core/log.hpp"
 #include "tocd/sim/study/study.hpp"
@@ -97,7 +98,7 @@ void work(Team& team, Predictor& predictor, const std::vector<StudyCase>& cases,
     if (answer.words.size() != 1) throw tocd::Error("malformed work assignment from rank 0");
     if (answer.words[0] == kNoMoreWork) return;
     const Unit& u = units.at(static_cast<std::size_t>(answer.words[0]));
-    const StudyRow row = start_row(cases[u.case_index]);
+    const StudyRow row = TableBuilder::start_row(cases[u.case_index]);
     const auto t0 = std::chrono::steady_clock::now();
     const mc::Tallies t = predictor.run_batches(row.c.request, u.first_batch, u.last_batch);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -114,11 +115,7 @@ StudyTable run_study(Predictor& predictor, const std::vector<StudyCase>& cases, 
   if (team.size() == 1) return run_study(predictor, cases, settings, ref_a, ref_b, progress);
   const std::vector<Unit> units = make_units(cases, settings, team.size());
   std::vector<CaseSum> sums(cases.size());
-  StudyTable t;
-  t.settings = settings;
-  t.ref_a = ref_a;
-  t.ref_b = ref_b;
-  const auto t0 = std::chrono::steady_clock::now();
+  TableBuilder table(settings, ref_a, ref_b);
 
   std::thread dispatcher;
   if (team.rank() == 0) {
@@ -144,19 +141,15 @@ StudyTable run_study(Predictor& predictor, const std::vector<StudyCase>& cases, 
   // would take the next study's requests for this one's.
   std::int64_t done = 1;
   team.sum(std::span(&done, 1));
-  if (team.rank() != 0) return t;
+  if (team.rank() != 0) return {};
 
   for (std::size_t i = 0; i < cases.size(); ++i) {
-    StudyRow row = start_row(cases[i]);
+    StudyRow row = TableBuilder::start_row(cases[i]);
     row.p = predictor.assemble(row.c.request, sums[i].tallies, sums[i].seconds);
     row.seconds = sums[i].seconds;
-    t.rows.push_back(std::move(row));
-    fill_relatives(t);
-    if (progress) progress(t.rows.back());
+    table.add(std::move(row), progress);
   }
-  t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  t.fluence_series = write_fluence_series(t);
-  return t;
+  return table.finish();
 }
 
 }  // namespace tocd::sim::study

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "table_builder.hpp"
 #include "tocd/core/error.hpp"
 
 namespace tocd::sim::study {
@@ -176,7 +177,13 @@ void fill_relatives(StudyTable& t) {
   }
 }
 
-StudyRow start_row(const StudyCase& c) {
+TableBuilder::TableBuilder(const StudySettings& settings, int ref_a, int ref_b) {
+  table_.settings = settings;
+  table_.ref_a = ref_a;
+  table_.ref_b = ref_b;
+}
+
+StudyRow TableBuilder::start_row(const StudyCase& c) {
   StudyRow row;
   row.c = c;
   if (!c.request.fluence_dir.empty()) row.c.request.fluence_stem = fmt::format("sim{:02d}", c.id);
@@ -184,25 +191,29 @@ StudyRow start_row(const StudyCase& c) {
   return row;
 }
 
+void TableBuilder::add(StudyRow row, const std::function<void(const StudyRow&)>& progress) {
+  table_.rows.push_back(std::move(row));
+  fill_relatives(table_);
+  if (progress) progress(table_.rows.back());
+}
+
+StudyTable TableBuilder::finish() {
+  table_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+  table_.fluence_series = write_fluence_series(table_);
+  return std::move(table_);
+}
+
 StudyTable run_study(Predictor& predictor, const std::vector<StudyCase>& cases, const StudySettings& settings,
                      int ref_a, int ref_b, const std::function<void(const StudyRow&)>& progress) {
-  StudyTable t;
-  t.settings = settings;
-  t.ref_a = ref_a;
-  t.ref_b = ref_b;
-  const auto t0 = std::chrono::steady_clock::now();
+  TableBuilder table(settings, ref_a, ref_b);
   for (const auto& c : cases) {
-    StudyRow row = start_row(c);
+    StudyRow row = TableBuilder::start_row(c);
     const auto s0 = std::chrono::steady_clock::now();
     row.p = predictor.predict(row.c.request);
     row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
-    t.rows.push_back(std::move(row));
-    fill_relatives(t);
-    if (progress) progress(t.rows.back());
+    table.add(std::move(row), progress);
   }
-  t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  t.fluence_series = write_fluence_series(t);
-  return t;
+  return table.finish();
 }
 
 std::string table_header(int ref_a, int ref_b) {

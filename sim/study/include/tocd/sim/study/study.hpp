@@ -71,9 +71,6 @@ struct StudyTable {
 /// nothing and returns "" when the table has no fluence files. run_study calls it. Throws tocd::Error.
 std::string write_fluence_series(const StudyTable& table);
 
-/// A row for case `c` before it runs: its request with the fluence file stem, its strain.
-StudyRow start_row(const StudyCase& c);
-
 /// Runs the cases in order on `predictor` (FE and meshes shared through its caches) and
 /// fills the relative columns. `progress` is called after each row.
 StudyTable run_study(Predictor& predictor, const std::vector<StudyCase>& cases, const StudySettings& settings,
