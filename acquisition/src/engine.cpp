@@ -150,9 +150,12 @@ Engine::Engine(db::Database& db, InstrumentSet instruments, EngineOptions option
 Engine::~Engine() {
   if (impl_->sequencer.joinable()) {
     if (!is_terminal(state())) abort("engine destroyed while the run was going");
-    wait();
+    // Not wait(): it hands a pause back, and abort() has already ended any pause.
+    {
+      std::unique_lock lock(impl_->mu);
+      impl_->cv.wait(lock, [&] { return impl_->finished; });
+    }
     impl_->sequencer.join();
-    impl_->prediction_worker.join();
   }
 }
 
@@ -202,7 +205,7 @@ std::int64_t Engine::start(const Protocol& protocol) {
       c.unit = std::string(kChannelUnits[s]);
       c.instrument_id = instrument[s];
       c.nominal_rate_Hz = rate[s];
-      m.channel[s] = m.db.add_channel(c).id;
+      m.recorder.set_channel(s, m.db.add_channel(c).id);
     }
     if (!tare_note.empty()) m.db.add_event({0, m.run_id, m.clock.now_ns(), "tare", tare_note, -1, ""});
     if (protocol.baseline.measure) {
@@ -259,13 +262,13 @@ std::int64_t Engine::resume(std::int64_t run_id) {
     for (int s = 0; s < kSlots; ++s) {
       if (!present[s]) continue;
       if (auto c = reader.channel(run_id, std::string(kChannelNames[s]))) {
-        m.channel[s] = c->id;
+        m.recorder.set_channel(s, c->id);
       } else {
         db::Channel c2;
         c2.run_id = run_id;
         c2.name = std::string(kChannelNames[s]);
         c2.unit = std::string(kChannelUnits[s]);
-        m.channel[s] = m.db.add_channel(c2).id;
+        m.recorder.set_channel(s, m.db.add_channel(c2).id);
       }
     }
   } catch (...) {
@@ -305,7 +308,8 @@ void Engine::Impl::start_threads() {
                      f.samples_total, f.error));
     if (user) user(f);
   };
-  writer = std::make_unique<db::Writer>(db, wo);
+  recorder.start(db, wo);
+  steps = protocol.kind == StepKind::vacuum ? make_vacuum_steps(*this) : make_pin_steps(*this);
   load_window.set_keep(2.0 * protocol.settle.window_s + 1.0);
   pressure_window.set_keep(2.0 * protocol.settle.window_s + 1.0);
   segment_start_ns = clock.now_ns();
@@ -319,13 +323,7 @@ void Engine::Impl::start_threads() {
   pollers.emplace_back([this] { guarded(*this, "power meter poller", [this] { run_power_poller(); }); });
   if (inst.vacuum)
     pollers.emplace_back([this] { guarded(*this, "vacuum poller", [this] { run_vacuum_poller(); }); });
-  prediction_worker = std::thread([this] {
-    guarded(*this, "prediction worker", [this] { run_predictions(); });
-    // Had the worker failed, wait() must still return once the run has ended.
-    {
-      std::unique_lock lock(pred_mu);
-      pred_cv.wait(lock, [&] { return pred_stop; });
-    }
+  predictions.start(run_id, [this] {
     {
       std::lock_guard lock(mu);
       finished = true;
@@ -350,7 +348,7 @@ void Engine::Impl::emit_event(const std::string& kind, const std::string& messag
                               const std::string& data_json) {
   db::EventRecord e{0, run_id, clock.now_ns(), kind, message, step, data_json};
   logger("acquisition")->info("run {}: {}: {}", run_id, kind, message);
-  if (!writer || storage_failed || !writer->enqueue(e)) {
+  if (storage_failed || !recorder.enqueue_event(e)) {
     try {
       db.add_event(e);
     } catch (const std::exception& ex) {  // storage trouble is reported by the writer; never throw here
@@ -431,10 +429,17 @@ void Engine::stop_now(const std::string& reason) {
   impl_->cv.notify_all();
 }
 
+// A paused run goes on only when someone calls resume() or abort(); a caller blocked in
+// wait() is often the only one who could, so wait() hands the pause back instead of blocking
+// for good (a resume already asked for is not a pause any more).
+bool Engine::Impl::waiting_for_operator() const {
+  return state == EngineState::paused && !resume_requested && !abort_requested && !tripped;
+}
+
 EngineState Engine::wait() {
   std::unique_lock lock(impl_->mu);
   if (impl_->state == EngineState::idle) return impl_->state;
-  impl_->cv.wait(lock, [&] { return impl_->finished; });
+  impl_->cv.wait(lock, [&] { return impl_->finished || impl_->waiting_for_operator(); });
   return impl_->state;
 }
 
@@ -459,10 +464,10 @@ Progress Engine::progress() const {
 
 EngineStats Engine::stats() const {
   EngineStats s;
-  s.samples_enqueued = impl_->enqueued;
-  s.samples_dropped = impl_->dropped;
+  s.samples_enqueued = impl_->recorder.enqueued();
+  s.samples_dropped = impl_->recorder.dropped();
   s.poll_overruns = impl_->overruns;
-  if (impl_->writer) s.writer = impl_->writer->stats();
+  s.writer = impl_->recorder.writer_stats();
   return s;
 }
 

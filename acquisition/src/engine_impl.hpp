@@ -17,11 +17,15 @@
 
 #include "channel_slots.hpp"
 #include "command_queue.hpp"
+#include "prediction_queue.hpp"
 #include "rate_window.hpp"
+#include "recorder.hpp"
 #include "running_stats.hpp"
 #include "scaled_clock.hpp"
+#include "step_strategy.hpp"
 #include "stop_signal.hpp"
 #include "tocd/acquisition/engine.hpp"
+#include "window_check.hpp"
 
 namespace tocd::acquisition {
 
@@ -52,8 +56,7 @@ struct Engine::Impl {
   std::int64_t run_id = 0;
   double baseline_W = 0;
   int first_step = 0;
-  std::unique_ptr<db::Writer> writer;
-  std::array<std::int64_t, kSlots> channel{};  // 0 = channel not recorded
+  Recorder recorder;
 
   // --- state, requests, interlock flags (guarded by mu) ---
   mutable std::mutex mu;
@@ -83,7 +86,7 @@ struct Engine::Impl {
   std::atomic<double> seal_setpoint_kPa{0};
   StopSignal stop_pollers;
   std::atomic<bool> tester_lost{false};  // its poller gave up: no more commands reach it
-  std::atomic<std::uint64_t> enqueued{0}, dropped{0}, overruns{0};
+  std::atomic<std::uint64_t> overruns{0};
   // Failed reads, failed commands and implausible readings of any instrument: a recording
   // window during which this moved is not a measurement.
   std::atomic<std::uint64_t> instrument_faults{0};
@@ -95,17 +98,9 @@ struct Engine::Impl {
 
   // --- settle windows and the recording window ---
   RateWindow load_window, pressure_window;
-  std::mutex rec_mu;
-  bool recording = false;
-  std::array<RunningStats, kSlots> rec_stats;
 
-  // --- predictions ---
-  std::mutex pred_mu;
-  std::condition_variable pred_cv;
-  std::deque<RecordedStep> pred_queue;
-  bool pred_stop = false;
-
-  std::thread sequencer, prediction_worker;
+  std::unique_ptr<StepStrategy> steps;  // pin or vacuum, chosen when the run starts
+  std::thread sequencer;
   std::vector<std::thread> pollers;
 
   /// Calls the observer (if any) with `call`; whatever the observer throws is logged, so that
@@ -129,6 +124,7 @@ struct Engine::Impl {
                   const std::string& data_json = "");
   void start_threads();
   Progress make_progress() const;
+  bool waiting_for_operator() const;  // caller holds mu
 
   // pollers.cpp
   void run_tester_poller();
@@ -144,6 +140,11 @@ struct Engine::Impl {
   Interrupt pending_interrupt() const;  // caller holds mu
   Interrupt wait_until(double max_sim_s, const std::function<bool()>& done);
   Interrupt run_step(const ProtocolStep& step);
+  Interrupt settle_phase(const ProtocolStep& step, db::StepRecord& rec, bool& settled);
+  Interrupt hold_phase();
+  Interrupt record_phase(db::StepRecord& rec, WindowObservation& seen);
+  std::string window_problem(const ProtocolStep& step, const WindowObservation& seen) const;
+  void store_step(const ProtocolStep& step, db::StepRecord& rec, const WindowObservation& seen, bool settled);
   std::uint64_t send_tester(std::string what, std::function<void()> cmd);
   void send_vacuum(std::string what, std::function<void()> cmd);
   bool wait_command(const CommandQueue& q, std::uint64_t id, double max_real_s);
@@ -153,9 +154,13 @@ struct Engine::Impl {
   Interrupt step_incomplete(const ProtocolStep& step, const std::string& problem);
   void finish(EngineState final_state, std::string why);
 
-  // predictions.cpp
-  void run_predictions();
-  void queue_prediction(const RecordedStep& step);
+  // Last member: destroyed (its worker joined) before anything its callbacks use.
+  PredictionQueue predictions{
+      db, predictor,
+      [this](const std::string& message, int step) { emit_event("prediction", message, step); },
+      [this](int step, const PredictedStep& p) {
+        notify([&](EngineObserver& o) { o.on_prediction(step, p); });
+      }};
 };
 
 }  // namespace tocd::acquisition

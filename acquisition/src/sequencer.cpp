@@ -1,5 +1,6 @@
-// The sequencer: runs the protocol's steps (move, settle, hold, record), reacts to pause,
-// abort and interlock trips, and ends the run.
+// The sequencer: runs the protocol's steps in explicit phases (move, settle, hold, record;
+// what differs between pin and vacuum steps is the StepStrategy's), reacts to pause, abort and
+// interlock trips, and ends the run.
 #include <cmath>
 #include <limits>
 
@@ -7,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine_impl.hpp"
+#include "step_strategy.hpp"
 #include "tocd/core/clock.hpp"
 #include "tocd/core/log.hpp"
 #include "window_check.hpp"
@@ -118,111 +120,27 @@ Interrupt Engine::Impl::step_incomplete(const ProtocolStep& step, const std::str
   return Interrupt::pause;
 }
 
+// One step: move -> settle -> hold -> record, each phase below; a window that is not a
+// measurement sends the step back to its move (bounded), or leaves it without a row.
 Interrupt Engine::Impl::run_step(const ProtocolStep& step) {
   const int n = static_cast<int>(protocol.steps.size());
-  const bool vacuum = protocol.kind == StepKind::vacuum;
   for (int attempt = 0;; ++attempt) {
     db::StepRecord rec;
     rec.run_id = run_id;
     rec.index = step.index;
     rec.started_t_ns = clock.now_ns();
-    if (vacuum) {
-      rec.target_pressure_kPa = step.pressure_kPa;
-    } else {
-      rec.target_displacement_mm = step.displacement_mm;
-      rec.nominal_strain = step.nominal_strain;
-    }
+    steps->set_targets(step, rec);
     set_state(EngineState::moving,
-              vacuum ? fmt::format("step {}/{}: vacuum to {} kPa", step.index + 1, n, step.pressure_kPa)
-                     : fmt::format("step {}/{}: pin to {} mm", step.index + 1, n, step.displacement_mm));
-    Interrupt why = Interrupt::none;
-    if (vacuum) {
-      seal_watch = false;
-      const double p = step.pressure_kPa;
-      send_vacuum(fmt::format("vacuum to {} kPa", p), [this, p] {
-        inst.vacuum->set_vent(false);
-        inst.vacuum->set_setpoint_kPa(p);
-        inst.vacuum->run_pump(true);
-      });
-      bool reached = false;
-      why = wait_until(protocol.settle.max_wait_s + opt.move_timeout_margin_s, [&] {
-        reached = std::abs(latest[kPressure] - p) <= opt.vacuum_reached_kPa;
-        return reached;
-      });
-      if (why != Interrupt::none) return why;
-      if (!reached) {
-        trip(fmt::format("vacuum did not reach {} kPa (last {:.2f} kPa)", p, latest[kPressure].load()));
-        return Interrupt::trip;
-      }
-      seal_setpoint_kPa = p;
-      seal_watch = true;
-    } else {
-      const double target = protocol.contact_position_mm + step.displacement_mm;
-      std::string problem;
-      const MoveResult moved = move_and_wait(target, protocol.approach_speed_mm_per_s, true, why, problem);
-      if (moved == MoveResult::interrupted) return why;
-      if (moved != MoveResult::arrived) return move_failed(step, problem);
-    }
-
-    set_state(EngineState::settling, "");
-    const std::int64_t settle_from = clock.now_ns();
-    RateWindow& window = vacuum ? pressure_window : load_window;
+              fmt::format("step {}/{}: {}", step.index + 1, n, steps->target_text(step)));
+    if (const Interrupt why = steps->approach(step); why != Interrupt::none) return why;
     bool settled = false;
-    double last_rate = std::numeric_limits<double>::quiet_NaN();
-    why = wait_until(protocol.settle.max_wait_s, [&] {
-      const auto rate = window.slope_per_s(clock.now_ns(), protocol.settle.window_s, settle_from);
-      if (rate) last_rate = *rate;
-      settled = rate && std::abs(*rate) < protocol.settle.max_rate;
-      return settled;
-    });
-    if (why != Interrupt::none) return why;
-    rec.settled_t_ns = clock.now_ns();
-    if (!settled) {
-      emit_event("step",
-                 fmt::format("step {}: not settled after {} s (rate {:.4g} {}/s, limit {}); recording anyway",
-                             step.index + 1, protocol.settle.max_wait_s, last_rate, vacuum ? "kPa" : "N",
-                             protocol.settle.max_rate),
-                 step.index);
-    }
-
-    if (protocol.hold_s > 0) {
-      set_state(EngineState::holding, "");
-      why = wait_until(protocol.hold_s, nullptr);
-      if (why != Interrupt::none) return why;
-    }
-
-    set_state(EngineState::recording, "");
-    const std::uint64_t faults_before = instrument_faults;
-    {
-      std::lock_guard lock(rec_mu);
-      for (auto& s : rec_stats) s.reset();
-      recording = true;
-    }
-    rec.recorded_from_t_ns = clock.now_ns();
-    why = wait_until(protocol.record_s, nullptr);
+    if (const Interrupt why = settle_phase(step, rec, settled); why != Interrupt::none) return why;
+    if (const Interrupt why = hold_phase(); why != Interrupt::none) return why;
     WindowObservation seen;
-    {
-      std::lock_guard lock(rec_mu);
-      recording = false;
-      seen.stats = rec_stats;
-    }
-    seen.faults = instrument_faults - faults_before;
-    rec.recorded_to_t_ns = clock.now_ns();
-    if (why != Interrupt::none) return why;
-    const auto& stats = seen.stats;
-
+    if (const Interrupt why = record_phase(rec, seen); why != Interrupt::none) return why;
     // Only a window that holds up is a measurement; otherwise record it again, or leave the
     // step without a row and pause.
-    WindowRequirements need;
-    need.record_s = protocol.record_s;
-    const std::array<double, kSlots> rate{protocol.rates.tester_Hz, protocol.rates.tester_Hz,
-                                          protocol.rates.power_Hz, protocol.rates.pressure_Hz};
-    for (int s = 0; s < kSlots; ++s) need.rate_Hz[s] = channel[s] != 0 ? rate[s] : 0.0;
-    need.min_sample_fraction = protocol.min_sample_fraction;
-    if (!vacuum) need.target_displacement_mm = step.displacement_mm;
-    need.position_tolerance_mm = protocol.position_tolerance_mm;
-    need.baseline_W = baseline_W;
-    if (const std::string problem = window_problems(need, seen); !problem.empty()) {
+    if (const std::string problem = window_problem(step, seen); !problem.empty()) {
       if (attempt >= protocol.max_rerecords) return step_incomplete(step, problem);
       emit_event(
           "step",
@@ -231,42 +149,97 @@ Interrupt Engine::Impl::run_step(const ProtocolStep& step) {
           step.index);
       continue;
     }
-
-    for (int s = 0; s < kSlots; ++s) {
-      if (channel[s] != 0)
-        rec.channels.push_back({channel[s], stats[s].mean(), stats[s].std(), stats[s].n()});
-    }
-    rec.measured_transmission = stats[kPower].mean() / baseline_W;
-    rec.completed = true;
-    db.add_step(rec);
-
-    StepResult r;
-    r.index = step.index;
-    r.step_count = n;
-    r.displacement_mm = step.displacement_mm;
-    r.nominal_strain = step.nominal_strain;
-    r.pressure_kPa = step.pressure_kPa;
-    r.measured_displacement_mm = stats[kDisplacement].mean();
-    r.load_N = stats[kLoad].mean();
-    r.load_std_N = stats[kLoad].std();
-    r.power_W = stats[kPower].mean();
-    r.power_std_W = stats[kPower].std();
-    r.measured_pressure_kPa = stats[kPressure].mean();
-    r.measured_T = rec.measured_transmission;
-    r.samples = stats[kPower].n();
-    r.settled = settled;
-    emit_event("step",
-               fmt::format("step {}/{} recorded: T = {:.5f} ({} power readings), load {:.4f} N",
-                           step.index + 1, n, r.measured_T, r.samples, r.load_N),
-               step.index);
-    notify([&](EngineObserver& o) { o.on_step_recorded(r); });
-    if (!vacuum && predictor) {
-      // The model is asked about the displacement the window measured, not the one it aimed at.
-      queue_prediction({run_id, step.index, r.measured_displacement_mm, protocol.sample.thickness_mm,
-                        r.load_N, r.measured_T});
-    }
+    store_step(step, rec, seen, settled);
     return Interrupt::none;
   }
+}
+
+Interrupt Engine::Impl::settle_phase(const ProtocolStep& step, db::StepRecord& rec, bool& settled) {
+  set_state(EngineState::settling, "");
+  const std::int64_t settle_from = clock.now_ns();
+  RateWindow& window = steps->settle_window();
+  double last_rate = std::numeric_limits<double>::quiet_NaN();
+  const Interrupt why = wait_until(protocol.settle.max_wait_s, [&] {
+    const auto rate = window.slope_per_s(clock.now_ns(), protocol.settle.window_s, settle_from);
+    if (rate) last_rate = *rate;
+    settled = rate && std::abs(*rate) < protocol.settle.max_rate;
+    return settled;
+  });
+  if (why != Interrupt::none) return why;
+  rec.settled_t_ns = clock.now_ns();
+  if (!settled) {
+    emit_event("step",
+               fmt::format("step {}: not settled after {} s (rate {:.4g} {}/s, limit {}); recording anyway",
+                           step.index + 1, protocol.settle.max_wait_s, last_rate, steps->settle_unit(),
+                           protocol.settle.max_rate),
+               step.index);
+  }
+  return Interrupt::none;
+}
+
+Interrupt Engine::Impl::hold_phase() {
+  if (!(protocol.hold_s > 0)) return Interrupt::none;
+  set_state(EngineState::holding, "");
+  return wait_until(protocol.hold_s, nullptr);
+}
+
+Interrupt Engine::Impl::record_phase(db::StepRecord& rec, WindowObservation& seen) {
+  set_state(EngineState::recording, "");
+  const std::uint64_t faults_before = instrument_faults;
+  recorder.open_window();
+  rec.recorded_from_t_ns = clock.now_ns();
+  const Interrupt why = wait_until(protocol.record_s, nullptr);
+  seen.stats = recorder.close_window();
+  seen.faults = instrument_faults - faults_before;
+  rec.recorded_to_t_ns = clock.now_ns();
+  return why;
+}
+
+std::string Engine::Impl::window_problem(const ProtocolStep& step, const WindowObservation& seen) const {
+  WindowRequirements need;
+  need.record_s = protocol.record_s;
+  const std::array<double, kSlots> rate{protocol.rates.tester_Hz, protocol.rates.tester_Hz,
+                                        protocol.rates.power_Hz, protocol.rates.pressure_Hz};
+  for (int s = 0; s < kSlots; ++s) need.rate_Hz[s] = recorder.channel(s) != 0 ? rate[s] : 0.0;
+  need.min_sample_fraction = protocol.min_sample_fraction;
+  need.target_displacement_mm = steps->target_displacement_mm(step);
+  need.position_tolerance_mm = protocol.position_tolerance_mm;
+  need.baseline_W = baseline_W;
+  return window_problems(need, seen);
+}
+
+void Engine::Impl::store_step(const ProtocolStep& step, db::StepRecord& rec, const WindowObservation& seen,
+                              bool settled) {
+  const auto& stats = seen.stats;
+  for (int s = 0; s < kSlots; ++s) {
+    if (recorder.channel(s) != 0)
+      rec.channels.push_back({recorder.channel(s), stats[s].mean(), stats[s].std(), stats[s].n()});
+  }
+  rec.measured_transmission = stats[kPower].mean() / baseline_W;
+  rec.completed = true;
+  db.add_step(rec);
+
+  StepResult r;
+  r.index = step.index;
+  r.step_count = static_cast<int>(protocol.steps.size());
+  r.displacement_mm = step.displacement_mm;
+  r.nominal_strain = step.nominal_strain;
+  r.pressure_kPa = step.pressure_kPa;
+  r.measured_displacement_mm = stats[kDisplacement].mean();
+  r.load_N = stats[kLoad].mean();
+  r.load_std_N = stats[kLoad].std();
+  r.power_W = stats[kPower].mean();
+  r.power_std_W = stats[kPower].std();
+  r.measured_pressure_kPa = stats[kPressure].mean();
+  r.measured_T = rec.measured_transmission;
+  r.samples = stats[kPower].n();
+  r.settled = settled;
+  emit_event("step",
+             fmt::format("step {}/{} recorded: T = {:.5f} ({} power readings), load {:.4f} N", step.index + 1,
+                         r.step_count, r.measured_T, r.samples, r.load_N),
+             step.index);
+  notify([&](EngineObserver& o) { o.on_step_recorded(r); });
+  steps->recorded(r);
 }
 
 void Engine::Impl::run_sequence() {
@@ -387,17 +360,17 @@ void Engine::Impl::finish(EngineState final_state, std::string why) {
   for (auto& t : pollers) t.join();
   // Everything is in the file and the run has its final status before anyone hears of the
   // final state.
-  writer->stop();
+  recorder.stop();
   // A run whose samples did not all reach the file is not complete, even when every step was
   // (a commit that failed after the last step, or a full write queue).
-  const db::WriterStats ws = writer->stats();
-  if (const std::uint64_t lost = dropped + ws.failed_samples;
+  const db::WriterStats ws = recorder.writer_stats();
+  if (const std::uint64_t dropped = recorder.dropped(), lost = dropped + ws.failed_samples;
       lost > 0 && final_state == EngineState::completed) {
     final_state = EngineState::interrupted;
     why = fmt::format(
         "{} sample(s) were not stored ({} refused by the full write queue, {} lost to failed "
         "commits{}): the run's record is incomplete",
-        lost, dropped.load(), ws.failed_samples, ws.last_error.empty() ? "" : ": " + ws.last_error);
+        lost, dropped, ws.failed_samples, ws.last_error.empty() ? "" : ": " + ws.last_error);
     emit_event("fault", why, current_step);
   }
   {
@@ -413,11 +386,7 @@ void Engine::Impl::finish(EngineState final_state, std::string why) {
     logger("acquisition")->error("run {}: cannot set status {}: {}", run_id, db::to_string(status), e.what());
   }
   set_state(final_state, why);
-  {
-    std::lock_guard lock(pred_mu);
-    pred_stop = true;
-  }
-  pred_cv.notify_all();
+  predictions.close();
 }
 
 }  // namespace tocd::acquisition

@@ -278,6 +278,9 @@ std::vector<CompareRow> Reader::compare(std::int64_t run_id) const {
   }
   std::vector<CompareRow> out;
   for (auto& s : st) {
+    // A step cut short (re-recorded or left incomplete; older runs stored such rows) is not a
+    // measurement: compare, export and the GUI list completed steps only.
+    if (!s.completed) continue;
     CompareRow row;
     // Predictions come ordered by (step, id): the last match is the latest.
     for (const auto& p : pr)

@@ -195,11 +195,7 @@ void LabBackend::stop_polling() {
 acquisition::InstrumentSet LabBackend::take_instruments() {
   stop_polling();
   acquisition::InstrumentSet set;
-  if (instruments_) {
-    set.tester = std::move(instruments_->tester);
-    set.power_meter = std::move(instruments_->power_meter);
-    set.vacuum = std::move(instruments_->vacuum);
-  }
+  if (instruments_) set = acquisition::to_instrument_set(std::move(*instruments_));
   instruments_.reset();
   return set;
 }

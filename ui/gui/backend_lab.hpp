@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "tocd/acquisition/engine.hpp"
+#include "tocd/acquisition/lab_session.hpp"
 #include "tocd/devices/lab.hpp"
 #include "tocd/mocks/simulated_lab.hpp"
 

@@ -27,7 +27,8 @@ RunBackend::RunBackend(QObject* parent)
 RunBackend::~RunBackend() {
   tasks_->wait();
   if (engine_) engine_->abort("window closed");
-  engine_.reset();  // waits for the run's threads; no callback comes after this
+  session_.reset();  // waits for the run's threads; no callback comes after this
+  engine_ = nullptr;
   waiter_->wait();
   db_.reset();
 }
@@ -54,7 +55,7 @@ void RunBackend::start(const acquisition::Protocol& protocol, const QString& db_
   t0_ns_ = 0;
   struct Started {
     std::unique_ptr<db::Database> db;
-    std::unique_ptr<acquisition::Engine> engine;
+    std::unique_ptr<acquisition::LabSession> session;
     std::int64_t run_id = 0;
   };
   auto inst = std::make_shared<acquisition::InstrumentSet>(std::move(instruments));
@@ -64,16 +65,19 @@ void RunBackend::start(const acquisition::Protocol& protocol, const QString& db_
       [observer, protocol, db_path, inst, options, predictor] {
         auto s = std::make_shared<Started>();
         s->db = std::make_unique<db::Database>(db::Database::open(db_path.toStdString()));
-        s->engine =
-            std::make_unique<acquisition::Engine>(*s->db, std::move(*inst), options, predictor, observer);
+        acquisition::LabSessionOptions so;
+        so.engine = options;
+        so.predictor = predictor;
+        s->session = std::make_unique<acquisition::LabSession>(*s->db, std::move(*inst), so, observer);
         // Observer callbacks may already come from here on; they only touch the sample
         // buffer and queued calls, so they are safe before `engine_` is set.
-        s->run_id = s->engine->start(protocol);
+        s->run_id = s->session->engine().start(protocol);
         return s;
       },
       [this, step_count](std::shared_ptr<Started>& s) {
         db_ = std::move(s->db);
-        engine_ = std::move(s->engine);
+        session_ = std::move(s->session);
+        engine_ = &session_->engine();
         run_id_ = s->run_id;
         drain_timer_.start();
         emit started(run_id_, step_count);
@@ -103,7 +107,8 @@ acquisition::EngineState RunBackend::state() const {
 void RunBackend::release() {
   if (active_) return;
   waiter_->wait();
-  engine_.reset();
+  session_.reset();
+  engine_ = nullptr;
   db_.reset();
 }
 
@@ -165,7 +170,7 @@ void RunBackend::on_progress(const acquisition::Progress& p) {
 void RunBackend::wait_for_end() {
   if (waiting_ || !engine_) return;
   waiting_ = true;
-  acquisition::Engine* engine = engine_.get();
+  acquisition::Engine* engine = engine_;
   // wait() returns once every prediction has landed; engine_ stays alive meanwhile because
   // release() and the destructor wait for this task first.
   waiter_->run<acquisition::EngineState>([engine] { return engine->wait(); },

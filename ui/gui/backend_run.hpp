@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "tocd/acquisition/engine.hpp"
+#include "tocd/acquisition/lab_session.hpp"
 #include "tocd/db/database.hpp"
 
 namespace tocd::gui {
@@ -58,7 +59,7 @@ class RunBackend : public QObject, private acquisition::EngineObserver {
   QString database_path() const { return db_path_; }
   acquisition::EngineState state() const;
   /// The engine while a run exists (tests read its state); null otherwise.
-  acquisition::Engine* engine() const noexcept { return engine_.get(); }
+  acquisition::Engine* engine() const noexcept { return engine_; }
   /// Drops the finished run's engine and database handle (before a new run).
   void release();
   void wait();
@@ -90,7 +91,8 @@ class RunBackend : public QObject, private acquisition::EngineObserver {
   TaskRunner* tasks_;
   TaskRunner* waiter_;
   std::unique_ptr<db::Database> db_;
-  std::unique_ptr<acquisition::Engine> engine_;
+  std::unique_ptr<acquisition::LabSession> session_;
+  acquisition::Engine* engine_ = nullptr;  // session_'s engine
   QString db_path_;
   std::int64_t run_id_ = 0;
   bool active_ = false;

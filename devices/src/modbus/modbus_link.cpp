@@ -189,8 +189,24 @@ void ModbusLink::transact(const std::string& operation, const std::function<int(
           modbus_get_socket(ctx_),
           std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::nanoseconds>(
                                                  std::chrono::duration<double>(options_.timeout_s)));
+    const auto attempt_started = std::chrono::steady_clock::now();
     const int rc = call(ctx_);
     const int err = errno;
+    // RTU: a serial line cannot be shut down under a blocked read, so libmodbus waits on (its
+    // byte timeout bounds each gap, hence the whole wait by the answer's length), and an
+    // answer that came in after the timeout is refused here as late: a trickling instrument
+    // is a timeout on either transport.
+    if (!tcp_ && rc >= 0 &&
+        std::chrono::steady_clock::now() - attempt_started >
+            std::chrono::duration<double>(options_.timeout_s)) {
+      last_kind = Kind::timeout;
+      last_why = fmt::format(
+          "no complete answer within {:.0f} ms (it took {:.0f} ms)", options_.timeout_s * 1e3,
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - attempt_started)
+              .count());
+      modbus_flush(ctx_);
+      continue;
+    }
     if (bounded && answer_deadline_.disarm()) {
       drop();               // the socket was shut down; the next attempt reconnects
       if (rc >= 0) return;  // the answer completed just as the deadline passed

@@ -21,6 +21,7 @@
 #include "tocd/mocks/power_meter_twin.hpp"
 #include "tocd/mocks/simulated_lab.hpp"
 #include "tocd/mocks/tissue.hpp"
+#include "trickle_proxy.hpp"
 
 using namespace tocd::acquisition;
 namespace fs = std::filesystem;
@@ -147,16 +148,25 @@ struct Rig {
   std::shared_ptr<std::atomic<int>> bad_power = std::make_shared<std::atomic<int>>(0);
   std::shared_ptr<std::atomic<double>> bad_value = std::make_shared<std::atomic<double>>(0.0);
 
-  explicit Rig(bool vacuum) {
+  /// Between the tester driver and its twin when the cell slows the tester's answers.
+  std::unique_ptr<tocd::acquisition::testing::TrickleProxy> tester_proxy;
+
+  Rig(bool vacuum, bool tester_via_proxy) {
     tocd::mocks::SimulatedLabOptions so;
     so.clock_factor = kFactor;
     so.contact_position_mm = 1.0;
     so.tissue = tocd::mocks::make_analytic_tissue(2.5);
     so.with_vacuum = vacuum;
     lab = std::make_unique<tocd::mocks::SimulatedLab>(so);
+    if (tester_via_proxy) {
+      tester_proxy =
+          std::make_unique<tocd::acquisition::testing::TrickleProxy>(lab->config().tester->address.port);
+    }
   }
   InstrumentSet instruments() {
-    dev::LabInstruments li = dev::open_lab(lab->config());
+    dev::LabConfig cfg = lab->config();
+    if (tester_proxy) cfg.tester->address.port = tester_proxy->port();
+    dev::LabInstruments li = dev::open_lab(cfg);
     InstrumentSet s;
     s.tester = std::make_unique<RefusingTester>(std::move(li.tester), refuse);
     s.power_meter = std::make_unique<BadReadingMeter>(std::move(li.power_meter), bad_power, bad_value);
@@ -174,6 +184,7 @@ struct Cell {
   std::string event_text;            ///< an event naming the fault must contain this ("": none expected)
   bool storage = false;              ///< storage full: the writer may grow the file by a few pages only
   bool armed_before_move = false;    ///< injected while step 1 records, so it meets step 2's move
+  bool tester_via_proxy = false;     ///< the tester's answers pass a TrickleProxy the cell can slow
 };
 
 // Names the cell in gtest's messages instead of dumping its bytes.
@@ -227,7 +238,7 @@ std::string all_events(const tocd::db::Reader& r, std::int64_t run) {
 TEST_P(FaultMatrix, NoStepIsCompletedAtAWrongPositionOrFromAFaultyWindow) {
   const Cell& cell = GetParam();
   SCOPED_TRACE(fmt::format("{} during {}", cell.fault, name(cell.phase)));
-  Rig rig(cell.vacuum);
+  Rig rig(cell.vacuum, cell.tester_via_proxy);
   const fs::path path = dir_ / "runs.db";
   tocd::db::Database db(path);
   const Protocol protocol = parse_protocol(cell.vacuum ? vacuum_protocol() : pin_protocol(), "matrix.toml");
@@ -350,6 +361,18 @@ std::vector<Cell> cells() {
                      *r.bad_power = 2;
                    },
                    nullptr, "is negative beyond the sensor's zero noise"});
+    // The tester answers a byte per 90 ms, each byte inside libmodbus's byte timeout: only the
+    // bound on the whole answer (0.5 s in the simulated lab's config) fails the reads, the
+    // poller gives up after fault_tolerance_s and the run ends interrupted with the tester
+    // named lost. The operator fixes the link and resumes the run.
+    Cell slow{"tester slow",
+              ph,
+              false,
+              [](Rig& r) { r.tester_proxy->slow(std::chrono::milliseconds(90)); },
+              [](Rig& r) { r.tester_proxy->slow(std::chrono::milliseconds(0)); },
+              "no complete answer within 500 ms"};
+    slow.tester_via_proxy = true;
+    out.push_back(slow);
     out.push_back({"vacuum seal loss", ph, true, [](Rig& r) { r.lab->inject_seal_loss(true); },
                    [](Rig& r) { r.lab->inject_seal_loss(false); },
                    ph == Phase::approach ? "vacuum did not reach 60 kPa" : "vacuum seal loss"});

@@ -11,6 +11,7 @@
 #include "tocd/devices/vacuum_driver.hpp"
 #include "tocd/mocks/sim_clock.hpp"
 #include "tocd/mocks/vacuum_twin.hpp"
+#include "trickling_rtu_slave.hpp"
 
 using namespace tocd::devices;
 using tocd::mocks::ModbusFault;
@@ -201,3 +202,28 @@ TEST_F(VacuumTest, MissingSerialDeviceIsAConnectionError) {
 }
 
 }  // namespace
+
+TEST(VacuumRtuDeadline, TrickledAnswerFailsAsATimeoutBoundedByTheAnswerLength) {
+  // 17 answer bytes (6 registers) at 40 ms each: every gap inside libmodbus's 50 ms byte
+  // timeout, the whole answer 0.68 s, past the 0.2 s timeout. libmodbus alone accepts it.
+  tocd::devices::testing::TricklingRtuSlave slave(1, std::chrono::milliseconds(40));
+  ModbusRtuAddress a;
+  a.device = slave.device();
+  ModbusOptions o;
+  o.timeout_s = 0.2;
+  o.retries = 0;
+  const auto vacuum = connect_modbus_rtu_vacuum(a, o);
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    vacuum->read();
+    FAIL() << "a trickled answer was accepted";
+  } catch (const TimeoutError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("vacuum controller " + slave.device()), std::string::npos) << msg;
+    EXPECT_NE(msg.find("no complete answer within 200 ms"), std::string::npos) << msg;
+  }
+  // The wait itself is bounded: the answer's 17 bytes at most one byte timeout (50 ms) apart
+  // after the 0.2 s response timeout, 1.05 s; plus scheduling slack of a loaded machine.
+  const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_LT(took, 2.0);
+}

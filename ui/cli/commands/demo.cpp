@@ -1,8 +1,8 @@
 // `tocdlab demo`: the main job end to end on the simulated lab — a pin-compression protocol on
 // simulated instruments (real wire protocols), recorded into a measurement database, every
 // step predicted by the FE + Monte Carlo simulator, measured vs. predicted printed and written
-// as CSV. The simulated sample deliberately differs from the model's default tissue (thinner,
-// stiffer, strain-graded optics) so that the comparison is not circular.
+// as CSV. The simulated sample deliberately differs from the model's default tissue (stiffer,
+// strain-graded optics) so that the comparison is not circular.
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -18,6 +18,7 @@
 #include "run_progress.hpp"
 #include "tocd/acquisition/compare_table.hpp"
 #include "tocd/acquisition/engine.hpp"
+#include "tocd/acquisition/lab_session.hpp"
 #include "tocd/acquisition/protocol.hpp"
 #include "tocd/acquisition/sim_step_predictor.hpp"
 #include "tocd/core/error.hpp"
@@ -30,45 +31,6 @@
 namespace cli = tocd::cli;
 
 namespace {
-
-// Seven steps from contact to 1.5 mm into a 2 mm sample. The baseline is the source power:
-// the simulated power meter reads source power x (transmission relative to glass only).
-constexpr const char* kDemoProtocol = R"toml(# tocdlab demo protocol (simulated lab)
-name = "demo: pin compression, contact to 1.5 mm"
-
-[sample]
-tissue = "skin (simulated: 2.0 mm, stiffer than the model, strain-graded optics)"
-thickness_mm = 2.0
-notes = "simulated lab sample backed by the FE + Monte Carlo simulator"
-
-[baseline]
-power_W = 1.0e-3
-
-[motion]
-contact_position_mm = 1.0
-approach_speed_mm_per_s = 0.5
-retract_speed_mm_per_s = 2.0
-
-[steps]
-displacements_mm = [0.0, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5]
-hold_s = 1.0
-record_s = 2.0
-
-[settle]
-max_rate = 0.02
-window_s = 1.0
-max_wait_s = 10.0
-
-[rates]
-tester_Hz = 1000
-power_Hz = 10
-pressure_Hz = 10
-
-[interlocks]
-max_load_N = 20.0
-power_over_range_pauses = true
-retract_on_trip = true
-)toml";
 
 struct DemoOptions {
   std::string db = "tocdlab-demo.db";
@@ -84,8 +46,7 @@ struct DemoOptions {
 
 void run_demo(const DemoOptions& o) {
   namespace acq = tocd::acquisition;
-  const acq::Protocol protocol = o.protocol.empty() ? acq::parse_protocol(kDemoProtocol, "demo protocol")
-                                                    : acq::load_protocol(o.protocol);
+  const acq::Protocol protocol = o.protocol.empty() ? acq::demo_protocol() : acq::load_protocol(o.protocol);
   if (protocol.kind == acq::StepKind::vacuum)
     throw tocd::ConfigError("tocdlab demo runs pin-compression protocols");
   const std::string csv_path =
@@ -115,19 +76,16 @@ void run_demo(const DemoOptions& o) {
   so.seed = o.seed;
   tocd::mocks::SimulatedLab lab(so);
   const tocd::devices::LabConfig lab_cfg = lab.config();
-  tocd::devices::LabInstruments inst = tocd::devices::open_lab(lab_cfg);
-  acq::InstrumentSet instruments{std::move(inst.tester), std::move(inst.power_meter), std::move(inst.vacuum)};
 
   // 3. The model that predicts each step: the published skin at the sample's thickness.
-  acq::SimPredictorSettings ps;
-  ps.photons = o.photons;
-  ps.seed = o.seed;
-  ps.mc_threads = o.threads;
-  auto predictor =
-      std::make_shared<acq::SimStepPredictor>(std::make_shared<tocd::sim::study::Predictor>(1), ps);
+  acq::LabSessionOptions session;
+  session.predict = acq::SimPredictorSettings{};
+  session.predict->photons = o.photons;
+  session.predict->seed = o.seed;
+  session.predict->mc_threads = o.threads;
 
   tocd::db::Database db(o.db);
-  acq::EngineOptions eo;
+  acq::EngineOptions& eo = session.engine;
   eo.clock_factor = o.clock_factor;
   eo.operator_name = "tocdlab demo";
   eo.unattended = true;  // a fault ends the demo run (interrupted) rather than pausing it for good
@@ -137,7 +95,8 @@ void run_demo(const DemoOptions& o) {
   std::int64_t run_id = 0;
   std::string error;
   {
-    acq::Engine engine(db, std::move(instruments), eo, predictor, &progress);
+    acq::LabSession lab_session(db, lab_cfg, session, &progress);
+    acq::Engine& engine = lab_session.engine();
     const tocd::cli::AbortOnSignal::Attached attached(signals, engine);
     run_id = engine.start(protocol);
     std::cout << fmt::format("run {} ({} steps) recording into {}", run_id, protocol.steps.size(), o.db)

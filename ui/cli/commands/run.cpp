@@ -16,6 +16,7 @@
 #include "run_progress.hpp"
 #include "tocd/acquisition/compare_table.hpp"
 #include "tocd/acquisition/engine.hpp"
+#include "tocd/acquisition/lab_session.hpp"
 #include "tocd/acquisition/protocol.hpp"
 #include "tocd/acquisition/sim_step_predictor.hpp"
 #include "tocd/db/database.hpp"
@@ -85,10 +86,8 @@ void run_protocol(const RunOptions& o) {
     lab_cfg = sim->config();
     lab_text = "# simulated lab (tocdlab run --simulated)\n" + tocd::devices::to_toml(*lab_cfg);
   }
-  tocd::devices::LabInstruments lab = tocd::devices::open_lab(*lab_cfg);
-  acq::InstrumentSet instruments{std::move(lab.tester), std::move(lab.power_meter), std::move(lab.vacuum)};
-
-  acq::EngineOptions eo;
+  acq::LabSessionOptions session;
+  acq::EngineOptions& eo = session.engine;
   eo.clock_factor = o.clock_factor;
   eo.operator_name = o.operator_name;
   eo.lab_config_text = lab_text;
@@ -99,15 +98,13 @@ void run_protocol(const RunOptions& o) {
   std::string error;
   acq::EngineStats stats;
   {
-    std::shared_ptr<acq::StepPredictor> predictor;
     if (!o.no_predict && protocol.kind != acq::StepKind::vacuum) {
-      acq::SimPredictorSettings ps;
-      ps.photons = o.photons;
-      ps.seed = o.seed;
-      predictor =
-          std::make_shared<acq::SimStepPredictor>(std::make_shared<tocd::sim::study::Predictor>(1), ps);
+      session.predict = acq::SimPredictorSettings{};
+      session.predict->photons = o.photons;
+      session.predict->seed = o.seed;
     }
-    acq::Engine engine(db, std::move(instruments), eo, predictor, &progress);
+    acq::LabSession lab_session(db, *lab_cfg, session, &progress);
+    acq::Engine& engine = lab_session.engine();
     const tocd::cli::AbortOnSignal::Attached attached(signals, engine);
     run_id = o.resume ? engine.resume(*o.resume) : engine.start(protocol);
     std::cout << fmt::format("run {} ({} steps) recording into {}", run_id, protocol.steps.size(), o.db)

@@ -194,7 +194,10 @@ class Engine {
   /// retraction already under way.
   void stop_now(const std::string& reason = "operator stop");
 
-  /// Blocks until the run has ended and every prediction has landed; returns the final state.
+  /// Blocks until the run has ended and every prediction has landed, or until the run is
+  /// paused waiting for the operator (nothing but resume() or abort() continues it, and the
+  /// caller may be the only one who could call them); returns the state then: a terminal one,
+  /// or EngineState::paused. Never blocks on a pause.
   EngineState wait();
   /// Like wait() with a timeout; false when the run is still going.
   bool wait_for(std::chrono::milliseconds timeout);

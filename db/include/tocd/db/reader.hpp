@@ -95,7 +95,7 @@ class Reader {
   std::vector<StepRecord> steps(std::int64_t run_id) const;              // ordered by index
   std::vector<EventRecord> events(std::int64_t run_id) const;            // ordered by time
   std::vector<PredictionRecord> predictions(std::int64_t run_id) const;  // by step, then id
-  std::vector<CompareRow> compare(std::int64_t run_id) const;            // one row per step
+  std::vector<CompareRow> compare(std::int64_t run_id) const;            // one row per completed step
   int first_incomplete_step(std::int64_t run_id) const;
 
  private:

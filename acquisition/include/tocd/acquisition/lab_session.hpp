@@ -1,0 +1,65 @@
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "tocd/acquisition/engine.hpp"
+#include "tocd/acquisition/protocol.hpp"
+#include "tocd/acquisition/sim_step_predictor.hpp"
+#include "tocd/db/database.hpp"
+#include "tocd/devices/lab.hpp"
+
+namespace tocd::acquisition {
+
+/// How a lab session records and predicts.
+struct LabSessionOptions {
+  /// Clock factor, operator, unattended, writer... `engine.lab_config_text` is stored with
+  /// each run; left empty, the session stores the lab config it opened (as TOML).
+  EngineOptions engine;
+  /// Predict T for every recorded step of a pin protocol with the FE + Monte Carlo simulator;
+  /// nullopt: no predictions (vacuum protocols are never predicted).
+  std::optional<SimPredictorSettings> predict;
+  /// A predictor of the caller's own instead of the simulator (tests, a remote one); wins
+  /// over `predict`.
+  std::shared_ptr<StepPredictor> predictor;
+};
+
+/// One run of the lab, wired the same way for `tocdlab run`, `tocdlab demo` and the GUI: the
+/// instruments (opened from a lab config, or handed over already open), the measurement
+/// database the run records into, the predictor of each recorded step, and the engine that
+/// drives them. The simulated lab, when there is one, is the caller's: it only supplies the
+/// lab config the session opens.
+///
+/// Destroying the session aborts a run still going and waits for it (Engine::~Engine).
+class LabSession {
+ public:
+  /// Opens every instrument of `lab` (devices::open_lab). Throws the first DeviceError met.
+  LabSession(db::Database& db, const devices::LabConfig& lab, LabSessionOptions options,
+             EngineObserver* observer = nullptr);
+  /// Instruments already open (the GUI's lab panel hands over its connections).
+  LabSession(db::Database& db, InstrumentSet instruments, LabSessionOptions options,
+             EngineObserver* observer = nullptr);
+  LabSession(const LabSession&) = delete;
+  LabSession& operator=(const LabSession&) = delete;
+
+  Engine& engine() { return *engine_; }
+  const Engine& engine() const { return *engine_; }
+  db::Database& database() { return db_; }
+
+ private:
+  db::Database& db_;
+  std::unique_ptr<Engine> engine_;
+};
+
+/// The instruments of an opened lab, as the engine takes them.
+InstrumentSet to_instrument_set(devices::LabInstruments lab);
+
+/// The demo protocol (protocols/demo.toml, built in): seven pin-compression steps from contact
+/// to 1.5 mm into a 2.5 mm sample. `tocdlab demo` and the GUI's demo run it.
+std::string_view demo_protocol_text();
+/// demo_protocol_text(), parsed.
+Protocol demo_protocol();
+
+}  // namespace tocd::acquisition

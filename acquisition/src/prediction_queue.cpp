@@ -1,0 +1,109 @@
+#include "prediction_queue.hpp"
+
+#include <future>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "tocd/core/log.hpp"
+#include "tocd/core/version.hpp"
+
+namespace tocd::acquisition {
+
+PredictionQueue::PredictionQueue(db::Database& db, std::shared_ptr<StepPredictor> predictor, Event event,
+                                 Landed landed)
+    : db_(db), predictor_(std::move(predictor)), event_(std::move(event)), landed_(std::move(landed)) {}
+
+PredictionQueue::~PredictionQueue() {
+  close();
+  if (worker_.joinable()) worker_.join();
+}
+
+void PredictionQueue::start(std::int64_t run_id, std::function<void()> done) {
+  run_id_ = run_id;
+  worker_ = std::thread([this, done = std::move(done)] {
+    try {
+      run();
+    } catch (const std::exception& e) {
+      logger("acquisition")->error("run {}: prediction worker failed: {}", run_id_, e.what());
+    } catch (...) {
+      logger("acquisition")->error("run {}: prediction worker failed", run_id_);
+    }
+    // Had the worker failed, whoever waits for the run must still hear that it ended.
+    {
+      std::unique_lock lock(mu_);
+      cv_.wait(lock, [&] { return closed_; });
+    }
+    done();
+  });
+}
+
+void PredictionQueue::push(const RecordedStep& step) {
+  if (!predictor_) return;
+  {
+    std::lock_guard lock(mu_);
+    if (closed_) return;
+    queue_.push_back(step);
+  }
+  cv_.notify_all();
+}
+
+void PredictionQueue::close() {
+  {
+    std::lock_guard lock(mu_);
+    closed_ = true;
+  }
+  cv_.notify_all();
+}
+
+void PredictionQueue::run() {
+  std::deque<std::pair<RecordedStep, std::future<PredictedStep>>> pending;
+  for (;;) {
+    std::deque<RecordedStep> fresh;
+    {
+      std::unique_lock lock(mu_);
+      if (pending.empty()) cv_.wait(lock, [&] { return closed_ || !queue_.empty(); });
+      fresh.swap(queue_);
+      if (fresh.empty() && pending.empty() && closed_) return;
+    }
+    for (const auto& step : fresh) {
+      try {
+        pending.emplace_back(step, predictor_->predict(step));
+      } catch (const std::exception& e) {
+        event_(fmt::format("step {}: prediction could not start: {}", step.index + 1, e.what()), step.index);
+      }
+    }
+    if (pending.empty()) continue;
+    auto& [step, future] = pending.front();
+    if (future.wait_for(std::chrono::milliseconds(20)) != std::future_status::ready) continue;
+    try {
+      const PredictedStep p = future.get();
+      store(step, p);
+      event_(fmt::format("step {}: predicted T = {:.5f} +- {:.5f} (measured {:.5f}), {:.1f} s",
+                         step.index + 1, p.T, p.T_stderr, step.measured_T, p.seconds),
+             step.index);
+      landed_(step.index, p);
+    } catch (const std::exception& e) {
+      event_(fmt::format("step {}: prediction failed: {}", step.index + 1, e.what()), step.index);
+    }
+    pending.pop_front();
+  }
+}
+
+void PredictionQueue::store(const RecordedStep& step, const PredictedStep& p) {
+  db::PredictionRecord rec;
+  rec.run_id = run_id_;
+  rec.step_index = step.index;
+  rec.config_json = p.config_json;
+  rec.T = p.T;
+  rec.T_stderr = p.T_stderr;
+  if (p.fe_seconds >= 0) rec.fe_seconds = p.fe_seconds;
+  if (p.mesh_seconds >= 0) rec.mesh_seconds = p.mesh_seconds;
+  if (p.mc_seconds >= 0) rec.mc_seconds = p.mc_seconds;
+  rec.total_seconds = p.seconds;
+  rec.software_version = std::string(version());
+  rec.summary_json = p.summary_json;
+  db_.add_prediction(rec);
+}
+
+}  // namespace tocd::acquisition

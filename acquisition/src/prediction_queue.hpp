@@ -1,0 +1,63 @@
+#pragma once
+
+// The prediction queue: recorded steps wait here for the StepPredictor, and its answers are
+// stored next to the steps. Its worker runs on its own thread, so a slow simulator never holds
+// up acquisition. It owns its queue, its lock and its thread.
+
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "tocd/acquisition/step_predictor.hpp"
+#include "tocd/db/database.hpp"
+
+namespace tocd::acquisition {
+
+class PredictionQueue {
+ public:
+  /// `event(message, step)` records a "prediction" event; `landed(step, prediction)` tells the
+  /// observer. Both are called on the worker thread.
+  using Event = std::function<void(const std::string& message, int step)>;
+  using Landed = std::function<void(int step, const PredictedStep& prediction)>;
+
+  PredictionQueue(db::Database& db, std::shared_ptr<StepPredictor> predictor, Event event, Landed landed);
+  /// Closes the queue and joins the worker (every prediction already asked for lands first).
+  ~PredictionQueue();
+  PredictionQueue(const PredictionQueue&) = delete;
+  PredictionQueue& operator=(const PredictionQueue&) = delete;
+
+  /// Whether there is a predictor (otherwise push() drops the step).
+  bool enabled() const noexcept { return predictor_ != nullptr; }
+
+  /// Starts the worker for run `run_id`; `done` is called on it once the queue was closed and
+  /// every prediction has landed (also when the worker failed).
+  void start(std::int64_t run_id, std::function<void()> done);
+  void push(const RecordedStep& step);
+  /// No more steps come; the worker ends when the pending ones have landed.
+  void close();
+
+ private:
+  void run();
+  void store(const RecordedStep& step, const PredictedStep& p);
+
+  db::Database& db_;
+  std::shared_ptr<StepPredictor> predictor_;
+  Event event_;
+  Landed landed_;
+  std::int64_t run_id_ = 0;
+
+  // Invariant: `closed_` only goes from false to true; steps pushed after it are dropped.
+  std::mutex mu_;
+  std::condition_variable cv_;
+  std::deque<RecordedStep> queue_;
+  bool closed_ = false;
+
+  std::thread worker_;
+};
+
+}  // namespace tocd::acquisition
