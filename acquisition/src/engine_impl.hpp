@@ -1,7 +1,11 @@
 #pragma once
 
-// Private state of the run engine, shared by engine.cpp (lifecycle), pollers.cpp,
-// sequencer.cpp and predictions.cpp.
+// The run engine's run control (state, requests, trip, under `mu`) and the handles of its
+// owned parts: the Recorder (writer, channels, recording window), the PredictionQueue, the
+// command queues, the StepStrategy of the run, and the instruments' latest readings (atomics,
+// each written by its one poller). engine.cpp (lifecycle), pollers.cpp and
+// instrument_poller.cpp (pollers), sequencer.cpp and step_strategies.cpp (sequencer) use it;
+// docs/acquisition.md has the table of who owns what.
 
 #include <array>
 #include <atomic>
