@@ -1,5 +1,6 @@
 // Run engine lifecycle: start, resume, operator requests, state, observer plumbing.
 #include <cmath>
+#include <map>
 
 #include <fmt/format.h>
 
@@ -8,6 +9,7 @@
 #include "tocd/core/version.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/devices/errors.hpp"
+#include "tocd/devices/lab.hpp"
 
 namespace tocd::acquisition {
 
@@ -159,6 +161,24 @@ Engine::~Engine() {
   }
 }
 
+namespace {
+
+// The power meter settings stored with a run: the sensor head it reports and the wavelength
+// the lab config set on open. Settings the lab config leaves alone (averaging, a wavelength
+// of 0) stay the meter's own and are not recorded.
+std::map<std::string, std::string> power_meter_settings(devices::PowerMeter& meter, const std::string& lab) {
+  std::map<std::string, std::string> out{{"power_meter.sensor", meter.sensor_identity()}};
+  try {
+    const auto cfg = lab.empty() ? devices::LabConfig{} : devices::parse_lab_config(lab, "lab config");
+    if (cfg.power_meter && cfg.power_meter->wavelength_nm > 0)
+      out["power_meter.wavelength_nm"] = fmt::format("{}", cfg.power_meter->wavelength_nm);
+  } catch (const ConfigError&) {  // a lab text the caller did not parse is stored as it is
+  }
+  return out;
+}
+
+}  // namespace
+
 std::int64_t Engine::start(const Protocol& protocol) {
   auto& m = *impl_;
   if (m.state != EngineState::idle) throw EngineError("this engine already ran; make a new one");
@@ -191,6 +211,7 @@ std::int64_t Engine::start(const Protocol& protocol) {
   nr.software_version = std::string(version());
   nr.operator_name = m.opt.operator_name;
   nr.baseline_power_W = m.baseline_W;
+  nr.settings = power_meter_settings(*m.inst.power_meter, m.opt.lab_config_text);
   const db::RunRecord run = m.db.create_run(nr);
   m.run_id = run.id;
   m.clock = ScaledClock(m.opt.clock_factor, run.monotonic_anchor_ns);

@@ -33,7 +33,9 @@ struct Database::Impl {
 
   std::int64_t insert_event(const EventRecord& e) {
     Statement s(c,
-                "INSERT INTO events(run_id, t_ns, kind, message, step_index, data_json) VALUES(?,?,?,?,?,?)");
+                "INSERT INTO events(run_id, t_ns, kind, message, step_index, data_json, segment) "
+                "VALUES(?1,?2,?3,?4,?5,?6,"
+                "(SELECT coalesce(max(segment), 0) FROM run_anchors WHERE run_id = ?1))");
     s.bind(1, e.run_id).bind(2, e.t_ns).bind(3, e.kind).bind(4, e.message);
     if (e.step_index >= 0) s.bind(5, e.step_index);
     if (!e.data_json.empty()) s.bind(6, e.data_json);
@@ -157,6 +159,16 @@ std::int64_t Database::add_sample(const SampleRecord& sp) {
   return sqlite3_last_insert_rowid(impl_->c.get());
 }
 
+namespace {
+
+std::string host_name() {
+  char name[256] = {};
+  if (::gethostname(name, sizeof name - 1) != 0) return "unknown";
+  return name;
+}
+
+}  // namespace
+
 RunRecord Database::create_run(const NewRun& in) {
   std::lock_guard lk(impl_->mu);
   RunRecord r;
@@ -173,20 +185,29 @@ RunRecord Database::create_run(const NewRun& in) {
   r.wall_anchor_utc_ns = wall_clock_ns();
   r.started_utc_ns = r.wall_anchor_utc_ns;
   r.status = RunStatus::running;
+  r.host = host_name();
+  r.software_commit = std::string(tocd::git_commit());
+  r.settings = in.settings;
 
   Transaction t(impl_->c);
   Statement s(impl_->c,
               "INSERT INTO runs(uuid, name, specimen_id, protocol, lab_config, software_version, operator, "
-              "baseline_power_W, wall_anchor_utc_ns, monotonic_anchor_ns, started_utc_ns, status) "
-              "VALUES(?,?,?,?,?,?,?,?,?,?,?,'running')");
+              "baseline_power_W, wall_anchor_utc_ns, monotonic_anchor_ns, started_utc_ns, host, "
+              "software_commit, status) VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,'running')");
   s.bind(1, r.uuid)
       .bind(2, r.name)
       .bind_id(3, r.sample_id)
       .bind(4, r.protocol_text)
       .bind(5, r.lab_config_text);
   s.bind(6, r.software_version).bind(7, r.operator_name).bind(8, r.baseline_power_W);
-  s.bind(9, r.wall_anchor_utc_ns).bind(10, r.monotonic_anchor_ns).bind(11, r.started_utc_ns).run();
+  s.bind(9, r.wall_anchor_utc_ns).bind(10, r.monotonic_anchor_ns).bind(11, r.started_utc_ns);
+  s.bind(12, r.host).bind(13, r.software_commit).run();
   r.id = sqlite3_last_insert_rowid(impl_->c.get());
+  Statement setting(impl_->c, "INSERT INTO run_settings(run_id, key, value) VALUES(?,?,?)");
+  for (const auto& [key, value] : r.settings) {
+    setting.bind(1, r.id).bind(2, key).bind(3, value).run();
+    setting.reset();
+  }
   impl_->add_anchor(r.id, r.wall_anchor_utc_ns, r.monotonic_anchor_ns);
   // Lock before commit: from the moment the run is visible as running, it is visibly live.
   if (!impl_->locks.acquire(r.id))

@@ -21,6 +21,9 @@ json run_json(const RunRecord& r) {
           {"status", std::string(to_string(r.status))},
           {"operator", r.operator_name},
           {"software_version", r.software_version},
+          {"software_commit", r.software_commit},
+          {"host", r.host},
+          {"settings", r.settings},
           {"started_utc", format_utc(r.started_utc_ns)},
           {"ended_utc", utc_or_null(r.ended_utc_ns)},
           {"started_utc_ns", r.started_utc_ns},
@@ -44,7 +47,7 @@ void write_json(const Reader& reader, std::int64_t run_id, const JsonExportOptio
   const RunRecord run = reader.run(run_id);
   json doc;
   doc["format"] = "tocdlab-run";
-  doc["format_version"] = 1;
+  doc["format_version"] = 2;  // 2: 1-based steps, *_se names, segments, run metadata
   doc["run"] = run_json(run);
   if (run.sample_id != 0) {
     if (auto sp = reader.sample(run.sample_id))
@@ -54,8 +57,9 @@ void write_json(const Reader& reader, std::int64_t run_id, const JsonExportOptio
                        {"thickness_mm", sp->thickness_mm},
                        {"notes", sp->notes}};
   }
+  const auto run_anchors = reader.anchors(run_id);
   json anchors = json::array();
-  for (const auto& a : reader.anchors(run_id))
+  for (const auto& a : run_anchors)
     anchors.push_back(
         {{"segment", a.segment}, {"wall_utc_ns", a.wall_utc_ns}, {"monotonic_ns", a.monotonic_ns}});
   doc["anchors"] = anchors;
@@ -81,15 +85,17 @@ void write_json(const Reader& reader, std::int64_t run_id, const JsonExportOptio
         q.decimation = Decimation::mean;
         q.max_points = opt.max_points_per_channel;
       }
-      json t = json::array(), v = json::array();
+      json t = json::array(), v = json::array(), seg = json::array();
       for (const auto& s : reader.samples(ch.id, q)) {
         t.push_back(s.t_ns);
         v.push_back(s.value);
+        seg.push_back(s.segment);
       }
       c["decimated"] = opt.max_points_per_channel > 0 &&
                        t.size() < static_cast<std::size_t>(c["sample_count"].get<std::int64_t>());
       c["t_ns"] = std::move(t);
       c["value"] = std::move(v);
+      c["segment"] = std::move(seg);  // anchor segment of each sample (UTC: see "anchors")
     }
     channels.push_back(std::move(c));
   }
@@ -102,7 +108,7 @@ void write_json(const Reader& reader, std::int64_t run_id, const JsonExportOptio
     json stats = json::array();
     for (const auto& cs : s.channels)
       stats.push_back({{"channel_id", cs.channel_id}, {"mean", cs.mean}, {"std", cs.std}, {"n", cs.n}});
-    json j = {{"index", s.index},
+    json j = {{"step", s.index + 1},
               {"completed", s.completed},
               {"target_displacement_mm", s.target_displacement_mm},
               {"nominal_strain", s.nominal_strain},
@@ -114,7 +120,7 @@ void write_json(const Reader& reader, std::int64_t run_id, const JsonExportOptio
               {"measured_transmission", s.measured_transmission},
               {"channels", stats},
               {"predicted_T", row.prediction ? json(row.prediction->T) : json(nullptr)},
-              {"predicted_T_stderr", row.prediction ? json(row.prediction->T_stderr) : json(nullptr)},
+              {"predicted_T_se", row.prediction ? json(row.prediction->T_stderr) : json(nullptr)},
               {"relative_difference", row.relative_difference}};
     steps.push_back(std::move(j));
   }
@@ -123,9 +129,10 @@ void write_json(const Reader& reader, std::int64_t run_id, const JsonExportOptio
   json events = json::array();
   for (const auto& e : reader.events(run_id)) {
     events.push_back({{"t_ns", e.t_ns},
-                      {"utc", format_utc(run.to_utc_ns(e.t_ns))},
+                      {"segment", e.segment},
+                      {"utc", format_utc(utc_ns(run_anchors, e.segment, e.t_ns))},
                       {"kind", e.kind},
-                      {"step", e.step_index >= 0 ? json(e.step_index) : json(nullptr)},
+                      {"step", e.step_index >= 0 ? json(e.step_index + 1) : json(nullptr)},
                       {"message", e.message},
                       {"data", parsed_or_text(e.data_json)}});
   }
@@ -134,9 +141,9 @@ void write_json(const Reader& reader, std::int64_t run_id, const JsonExportOptio
   json predictions = json::array();
   for (const auto& p : reader.predictions(run_id)) {
     predictions.push_back({{"id", p.id},
-                           {"step", p.step_index},
+                           {"step", p.step_index + 1},
                            {"T", p.T},
-                           {"T_stderr", p.T_stderr},
+                           {"T_se", p.T_stderr},
                            {"fe_seconds", p.fe_seconds},
                            {"mesh_seconds", p.mesh_seconds},
                            {"mc_seconds", p.mc_seconds},

@@ -69,10 +69,10 @@ void bind_range(Statement& s, std::int64_t channel_id, const SampleQuery& q) {
 }
 
 std::vector<Sample> all_samples(const detail::Connection& c, std::int64_t channel_id, const SampleQuery& q) {
-  Statement s(c, std::string("SELECT t_ns, value FROM samples WHERE") + kRange + " ORDER BY t_ns");
+  Statement s(c, std::string("SELECT t_ns, value, segment FROM samples WHERE") + kRange + " ORDER BY t_ns");
   bind_range(s, channel_id, q);
   std::vector<Sample> out;
-  while (s.step()) out.push_back({channel_id, s.col_int(0), s.col_double(1)});
+  while (s.step()) out.push_back({channel_id, s.col_int(0), s.col_double(1), static_cast<int>(s.col_int(2))});
   return out;
 }
 
@@ -91,23 +91,27 @@ std::vector<Sample> decimated(const detail::Connection& c, std::int64_t channel_
   std::vector<Sample> out;
   if (q.decimation == Decimation::mean) {
     // Mean time relative to t0 keeps the average exact in a double.
-    Statement s(c,
-                std::string("SELECT (t_ns - ?4) / ?5 AS b, avg(t_ns - ?4), avg(value) FROM samples WHERE") +
-                    kRange + " GROUP BY b ORDER BY b");
+    Statement s(
+        c, std::string(
+               "SELECT (t_ns - ?4) / ?5 AS b, avg(t_ns - ?4), avg(value), max(segment) FROM samples WHERE") +
+               kRange + " GROUP BY b ORDER BY b");
     bind_range(s, channel_id, q);
     s.bind(4, t0).bind(5, width);
     while (s.step())
-      out.push_back({channel_id, t0 + static_cast<std::int64_t>(s.col_double(1)), s.col_double(2)});
+      out.push_back({channel_id, t0 + static_cast<std::int64_t>(s.col_double(1)), s.col_double(2),
+                     static_cast<int>(s.col_int(3))});
     return out;
   }
   // min_max: SQLite takes the bare column t_ns from the row that holds the min (max) value.
   const auto extreme = [&](const char* fn) {
-    Statement s(c, std::string("SELECT (t_ns - ?4) / ?5 AS b, t_ns, ") + fn + "(value) FROM samples WHERE" +
-                       kRange + " GROUP BY b ORDER BY b");
+    Statement s(c, std::string("SELECT (t_ns - ?4) / ?5 AS b, t_ns, ") + fn +
+                       "(value), segment FROM samples WHERE" + kRange + " GROUP BY b ORDER BY b");
     bind_range(s, channel_id, q);
     s.bind(4, t0).bind(5, width);
     std::vector<std::pair<std::int64_t, Sample>> v;
-    while (s.step()) v.push_back({s.col_int(0), {channel_id, s.col_int(1), s.col_double(2)}});
+    while (s.step())
+      v.push_back(
+          {s.col_int(0), {channel_id, s.col_int(1), s.col_double(2), static_cast<int>(s.col_int(3))}});
     return v;
   };
   const auto lo = extreme("min"), hi = extreme("max");

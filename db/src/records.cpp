@@ -27,4 +27,12 @@ RunStatus run_status_from_string(std::string_view text) {
                       "' (expected running, completed, aborted or interrupted)");
 }
 
+std::int64_t utc_ns(const std::vector<RunAnchor>& anchors, int segment, std::int64_t t_ns) noexcept {
+  const RunAnchor* use = nullptr;
+  for (const auto& a : anchors)  // ordered by segment
+    if (a.segment <= segment) use = &a;
+  if (!use && !anchors.empty()) use = &anchors.front();
+  return use ? use->wall_utc_ns + (t_ns - use->monotonic_ns) : t_ns;
+}
+
 }  // namespace tocd::db

@@ -10,8 +10,8 @@ namespace {
 
 constexpr const char* kRunColumns =
     "SELECT id, uuid, name, specimen_id, protocol, lab_config, software_version, operator, "
-    "baseline_power_W, wall_anchor_utc_ns, monotonic_anchor_ns, started_utc_ns, ended_utc_ns, status "
-    "FROM runs";
+    "baseline_power_W, wall_anchor_utc_ns, monotonic_anchor_ns, started_utc_ns, ended_utc_ns, status, "
+    "host, software_commit FROM runs";
 
 RunRecord read_run(const Statement& s) {
   RunRecord r;
@@ -29,7 +29,15 @@ RunRecord read_run(const Statement& s) {
   r.started_utc_ns = s.col_int(11);
   if (!s.col_null(12)) r.ended_utc_ns = s.col_int(12);
   r.status = run_status_from_string(s.col_text(13));
+  r.host = s.col_text(14);
+  r.software_commit = s.col_text(15);
   return r;
+}
+
+void read_settings(const Connection& c, RunRecord& r) {
+  Statement s(c, "SELECT key, value FROM run_settings WHERE run_id = ?");
+  s.bind(1, r.id);
+  while (s.step()) r.settings[s.col_text(0)] = s.col_text(1);
 }
 
 }  // namespace
@@ -38,13 +46,16 @@ std::optional<RunRecord> find_run(const Connection& c, std::int64_t run_id) {
   Statement s(c, std::string(kRunColumns) + " WHERE id = ?");
   s.bind(1, run_id);
   if (!s.step()) return std::nullopt;
-  return read_run(s);
+  RunRecord r = read_run(s);
+  read_settings(c, r);
+  return r;
 }
 
 std::vector<RunRecord> all_runs(const Connection& c) {
   Statement s(c, std::string(kRunColumns) + " ORDER BY id");
   std::vector<RunRecord> out;
   while (s.step()) out.push_back(read_run(s));
+  for (auto& r : out) read_settings(c, r);
   return out;
 }
 
@@ -114,7 +125,7 @@ std::vector<StepRecord> run_steps(const Connection& c, std::int64_t run_id) {
 
 std::vector<EventRecord> run_events(const Connection& c, std::int64_t run_id) {
   Statement s(c,
-              "SELECT id, t_ns, kind, message, step_index, data_json FROM events WHERE run_id = ? "
+              "SELECT id, t_ns, kind, message, step_index, data_json, segment FROM events WHERE run_id = ? "
               "ORDER BY t_ns, id");
   s.bind(1, run_id);
   std::vector<EventRecord> out;
@@ -127,6 +138,7 @@ std::vector<EventRecord> run_events(const Connection& c, std::int64_t run_id) {
     e.message = s.col_text(3);
     e.step_index = s.col_null(4) ? -1 : static_cast<int>(s.col_int(4));
     e.data_json = s.col_text(5);
+    e.segment = static_cast<int>(s.col_int(6));
     out.push_back(std::move(e));
   }
   return out;

@@ -62,6 +62,79 @@ CREATE TABLE predictions(
   created_utc_ns INTEGER NOT NULL);
 CREATE INDEX predictions_by_run_step ON predictions(run_id, step_index);
 )sql",
+    // 1 -> 2: the anchor segment of every sample and event (its UTC comes from that segment's
+    // anchor); run metadata (host, software commit, instrument settings); the views pandas
+    // reads (docs/database.md, "Views").
+    R"sql(
+ALTER TABLE samples ADD COLUMN segment INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE events ADD COLUMN segment INTEGER NOT NULL DEFAULT 0;
+-- Schema 1 did not store the segment. Within one boot of the recording machine the latest
+-- anchor at or before a time is its segment (each resume anchors after everything before it).
+UPDATE samples SET segment = (SELECT max(a.segment) FROM run_anchors a
+  WHERE a.run_id = samples.run_id AND a.monotonic_ns <= samples.t_ns)
+  WHERE run_id IN (SELECT run_id FROM run_anchors WHERE segment > 0)
+    AND EXISTS (SELECT 1 FROM run_anchors a WHERE a.run_id = samples.run_id AND a.monotonic_ns <= samples.t_ns);
+UPDATE events SET segment = (SELECT max(a.segment) FROM run_anchors a
+  WHERE a.run_id = events.run_id AND a.monotonic_ns <= events.t_ns)
+  WHERE run_id IN (SELECT run_id FROM run_anchors WHERE segment > 0)
+    AND EXISTS (SELECT 1 FROM run_anchors a WHERE a.run_id = events.run_id AND a.monotonic_ns <= events.t_ns);
+ALTER TABLE runs ADD COLUMN host TEXT NOT NULL DEFAULT '';
+ALTER TABLE runs ADD COLUMN software_commit TEXT NOT NULL DEFAULT '';
+CREATE TABLE run_settings(
+  run_id INTEGER NOT NULL REFERENCES runs(id), key TEXT NOT NULL, value TEXT NOT NULL,
+  PRIMARY KEY(run_id, key));
+
+-- Every sample of every run in long form, with its UTC from the anchor of its own segment.
+-- t_s: seconds since the run started, on the UTC axis (continuous across resumes).
+CREATE VIEW sample_series AS
+SELECT s.run_id, s.segment, ch.name AS channel, ch.unit, s.t_ns,
+       a.wall_utc_ns + (s.t_ns - a.monotonic_ns) AS utc_ns,
+       (a.wall_utc_ns + (s.t_ns - a.monotonic_ns) - r.started_utc_ns) * 1e-9 AS t_s,
+       strftime('%Y-%m-%dT%H:%M:%fZ', (a.wall_utc_ns + (s.t_ns - a.monotonic_ns)) / 1000000 / 1000.0,
+                'unixepoch') AS utc,
+       s.value
+FROM samples s
+JOIN channels ch ON ch.id = s.channel_id
+JOIN runs r ON r.id = s.run_id
+JOIN run_anchors a ON a.run_id = s.run_id AND a.segment = s.segment;
+
+-- Every step of every run next to its latest prediction. Measured values only for completed
+-- steps (state 'completed'); a step cut short keeps its targets and its state, nothing else.
+-- measured_T_se: standard error of the mean power over the recording window divided by the
+-- baseline power (readings taken as independent).
+CREATE VIEW step_comparison AS
+SELECT st.run_id, st.step_index + 1 AS step,
+       CASE WHEN st.completed THEN 'completed' ELSE 'incomplete' END AS state,
+       st.target_displacement_mm,
+       CASE WHEN st.completed THEN d.mean END AS displacement_mm,
+       st.nominal_strain, st.target_pressure_kPa,
+       CASE WHEN st.completed THEN l.mean END AS load_N,
+       CASE WHEN st.completed THEN p.mean END AS power_W,
+       r.baseline_power_W,
+       CASE WHEN st.completed THEN st.measured_transmission END AS measured_T,
+       CASE WHEN st.completed AND p.n > 1 AND r.baseline_power_W > 0
+            THEN p.std / sqrt(p.n) / r.baseline_power_W END AS measured_T_se,
+       pr.T AS predicted_T, pr.T_stderr AS predicted_T_se,
+       CASE WHEN st.completed AND st.measured_transmission <> 0
+            THEN (pr.T - st.measured_transmission) / st.measured_transmission END AS relative_difference
+FROM steps st
+JOIN runs r ON r.id = st.run_id
+LEFT JOIN channels dch ON dch.run_id = st.run_id AND dch.name = 'displacement'
+LEFT JOIN step_channel_stats d ON d.step_id = st.id AND d.channel_id = dch.id
+LEFT JOIN channels lch ON lch.run_id = st.run_id AND lch.name = 'load'
+LEFT JOIN step_channel_stats l ON l.step_id = st.id AND l.channel_id = lch.id
+LEFT JOIN channels pch ON pch.run_id = st.run_id AND pch.name = 'power'
+LEFT JOIN step_channel_stats p ON p.step_id = st.id AND p.channel_id = pch.id
+LEFT JOIN predictions pr ON pr.id = (SELECT max(id) FROM predictions
+                                     WHERE run_id = st.run_id AND step_index = st.step_index);
+
+-- The measurements: completed steps only (a recorded step is a fact only when completed).
+CREATE VIEW measurements AS
+SELECT run_id, step, target_displacement_mm, displacement_mm, nominal_strain, target_pressure_kPa,
+       load_N, power_W, baseline_power_W, measured_T, measured_T_se, predicted_T, predicted_T_se,
+       relative_difference
+FROM step_comparison WHERE state = 'completed';
+)sql",
 };
 
 std::string hex(std::int64_t v) {

@@ -188,7 +188,18 @@ struct Writer::Impl {
       written = rejected = 0;
       try {
         detail::Transaction t(c);
-        detail::Statement ins(c, "INSERT INTO samples(run_id, channel_id, t_ns, value) VALUES(?,?,?,?)");
+        detail::Statement ins(
+            c, "INSERT INTO samples(run_id, channel_id, t_ns, value, segment) VALUES(?,?,?,?,?)");
+        // A run's anchor segment cannot change while it records (resume_run needs it stopped):
+        // one look-up per run and batch.
+        std::unordered_map<std::int64_t, std::int64_t> segment;
+        const auto segment_of = [&](std::int64_t run) {
+          const auto it = segment.find(run);
+          if (it != segment.end()) return it->second;
+          detail::Statement q(c, "SELECT coalesce(max(segment), 0) FROM run_anchors WHERE run_id = ?");
+          q.bind(1, run);
+          return segment[run] = q.step() ? q.col_int(0) : 0;
+        };
         std::int64_t last_bad = 0;
         for (const auto& s : batch) {
           const std::int64_t run = run_of(s.channel_id);
@@ -197,15 +208,16 @@ struct Writer::Impl {
             last_bad = s.channel_id;
             continue;
           }
-          ins.bind(1, run).bind(2, s.channel_id).bind(3, s.t_ns).bind(4, s.value);
+          ins.bind(1, run).bind(2, s.channel_id).bind(3, s.t_ns).bind(4, s.value).bind(5, segment_of(run));
           ins.step();
           sqlite3_reset(ins.get());  // every parameter is bound again for the next row
           ++written;
         }
         if (last_bad != 0) error = fmt::format("samples for unknown channel id {} were rejected", last_bad);
-        detail::Statement ev(c,
-                             "INSERT INTO events(run_id, t_ns, kind, message, step_index, data_json) "
-                             "VALUES(?,?,?,?,?,?)");
+        detail::Statement ev(
+            c,
+            "INSERT INTO events(run_id, t_ns, kind, message, step_index, data_json, segment) "
+            "VALUES(?,?,?,?,?,?,?)");
         for (const auto& e : evs) {
           if (!has_run(e.run_id)) {
             ++rejected;
@@ -215,6 +227,7 @@ struct Writer::Impl {
           ev.bind(1, e.run_id).bind(2, e.t_ns).bind(3, e.kind).bind(4, e.message);
           if (e.step_index >= 0) ev.bind(5, e.step_index);
           if (!e.data_json.empty()) ev.bind(6, e.data_json);
+          ev.bind(7, segment_of(e.run_id));
           ev.run();
           ev.reset();
           ++written;

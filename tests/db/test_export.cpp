@@ -22,15 +22,15 @@ std::vector<std::string> lines(const std::string& text) {
   std::vector<std::string> out;
   std::string cur;
   for (std::size_t i = 0; i < text.size(); ++i) {
-    if (text.compare(i, 2, "\r\n") == 0) {
+    if (text[i] == '\r') ADD_FAILURE() << "CR in the CSV at byte " << i << ": lines end in LF";
+    if (text[i] == '\n') {
       out.push_back(cur);
       cur.clear();
-      ++i;
     } else {
       cur += text[i];
     }
   }
-  EXPECT_TRUE(cur.empty()) << "last line must end with CRLF";
+  EXPECT_TRUE(cur.empty()) << "last line must end with LF";
   return out;
 }
 
@@ -91,14 +91,15 @@ TEST_F(DbExport, StepsCsvHasOneRowPerStepWithStatsAndPrediction) {
   std::ostringstream out;
   write_csv(Reader(path_), run_.id, CsvTable::steps, out);
   const auto l = lines(out.str());
-  // Step 1 was cut short: not a measurement, so not a row.
+  // Step 2 was cut short: not a measurement, so not a row.
   ASSERT_EQ(l.size(), 2u);
   EXPECT_EQ(
       l[0],
       "step,completed,target_displacement_mm,nominal_strain,target_pressure_kPa,settled_s,recorded_from_s,"
-      "recorded_to_s,load_mean_N,load_std_N,load_n,power_mean_W,power_std_W,power_n,measured_T,predicted_T,"
-      "predicted_T_stderr,relative_difference");
-  EXPECT_EQ(l[1], "0,1,0.5,0.25,,0.010000,0.010000,0.049000,2.95,1.2,40,0.0005,0,4,0.5,0.375,0.01,-0.25");
+      "recorded_to_s,load_mean_N,load_std_N,load_n,power_mean_W,power_std_W,power_n,measured_T,measured_T_se,"
+      "predicted_T,predicted_T_se,relative_difference");
+  // Steps are numbered from 1; measured_T_se = power std / sqrt(n) / baseline = 0 / 2 / 1e-3.
+  EXPECT_EQ(l[1], "1,1,0.5,0.25,,0.010000,0.010000,0.049000,2.95,1.2,40,0.0005,0,4,0.5,0,0.375,0.01,-0.25");
 }
 
 TEST_F(DbExport, SamplesCsvIsLongFormatWithUtc) {
@@ -106,8 +107,8 @@ TEST_F(DbExport, SamplesCsvIsLongFormatWithUtc) {
   write_csv(Reader(path_), run_.id, CsvTable::samples, out);
   const auto l = lines(out.str());
   ASSERT_EQ(l.size(), 1u + 50u + 5u);
-  EXPECT_EQ(l[0], "t_ns,t_s,utc,channel,unit,value");
-  EXPECT_EQ(l[4], std::to_string(t(3)) + ",0.003000000," +
+  EXPECT_EQ(l[0], "t_ns,segment,t_s,utc,channel,unit,value");
+  EXPECT_EQ(l[4], std::to_string(t(3)) + ",0,0.003000000," +
                       tocd::format_utc(run_.wall_anchor_utc_ns + 3'000'000) + ",load,N,0.30000000000000004");
   EXPECT_THAT(l[51], ::testing::EndsWith(",power,W,0.0005"));
 }
@@ -116,7 +117,7 @@ TEST_F(DbExport, EventsCsvQuotesCommasQuotesAndLineBreaks) {
   std::ostringstream out;
   write_csv(Reader(path_), run_.id, CsvTable::events, out);
   const std::string text = out.str();
-  EXPECT_THAT(text, ::testing::HasSubstr(",operator,0,\"note, with \"\"quotes\"\"\nand a line break\"\r\n"));
+  EXPECT_THAT(text, ::testing::HasSubstr(",operator,1,\"note, with \"\"quotes\"\"\nand a line break\"\n"));
 }
 
 TEST_F(DbExport, JsonHoldsTheWholeRun) {
@@ -139,7 +140,7 @@ TEST_F(DbExport, JsonHoldsTheWholeRun) {
   EXPECT_EQ(load["t_ns"][7].get<std::int64_t>(), t(7));
   EXPECT_DOUBLE_EQ(load["value"][7].get<double>(), 0.1 * 7);
   EXPECT_TRUE(j["channels"][1]["instrument_id"].is_null());
-  ASSERT_EQ(j["steps"].size(), 1u);  // step 1 was cut short: not a measurement
+  ASSERT_EQ(j["steps"].size(), 1u);  // step 2 was cut short: not a measurement
   EXPECT_DOUBLE_EQ(j["steps"][0]["predicted_T"].get<double>(), 0.375);
   EXPECT_DOUBLE_EQ(j["steps"][0]["relative_difference"].get<double>(), -0.25);
   EXPECT_TRUE(j["steps"][0]["target_pressure_kPa"].is_null());

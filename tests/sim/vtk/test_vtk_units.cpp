@@ -110,6 +110,39 @@ TEST(VtuWriter, AsciiIsPlainTextWithNineDigits) {
   std::filesystem::remove(path);
 }
 
+TEST(VtuWriter, SinglePrecisionWritesFloat32ThatTheAsciiDigitsRestoreExactly) {
+  auto g = line_grid(4);
+  g.single_precision = true;
+  g.point_data.push_back({"id", 1, std::vector<std::int32_t>{7, 8, 9, 10}});
+  const auto path = temp("line_single.vtu");
+  vtk::write_vtu(g, path, vtk::Format::ascii);
+  const std::string text = slurp(path);
+  EXPECT_EQ(text.find("Float64"), std::string::npos);
+  EXPECT_NE(text.find("<DataArray type=\"Float32\" NumberOfComponents=\"3\""), std::string::npos);
+  EXPECT_NE(text.find("type=\"Int32\" Name=\"id\""), std::string::npos);  // integers keep their type
+  // 1/3 as a float is 0.3333333432674408; 9 digits print it so that strtof gives it back.
+  const std::size_t at = text.find("0.333333343");
+  ASSERT_NE(at, std::string::npos);
+  EXPECT_EQ(std::strtof(text.c_str() + at, nullptr), 1.0f / 3.0f);
+  std::filesystem::remove(path);
+}
+
+TEST(VtuWriter, CellsAreOrderedByTheirLowestPointsAndTheirDataFollows) {
+  vtk::UnstructuredGrid g;
+  g.points_xyz = {0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0, 0};
+  g.connectivity = {3, 2, 0, 1, 2, 1};  // lines (3,2), (0,1), (2,1): written (0,1), (2,1), (3,2)
+  g.nodes_per_cell = 2;
+  g.cell_type = 3;
+  g.cell_data.push_back({"tag", 1, std::vector<std::int32_t>{30, 10, 20}});
+  const auto path = temp("order.vtu");
+  vtk::write_vtu(g, path, vtk::Format::ascii);
+  const std::string text = slurp(path);
+  EXPECT_NE(text.find("Name=\"connectivity\" format=\"ascii\">\n0 1 2 1 3 2"), std::string::npos) << text;
+  EXPECT_NE(text.find("Name=\"tag\" NumberOfComponents=\"1\" format=\"ascii\">\n10 20 30"), std::string::npos)
+      << text;
+  std::filesystem::remove(path);
+}
+
 TEST(VtuWriter, RejectsArraysThatDoNotMatchThePointsOrCells) {
   const auto path = temp("bad.vtu");
   auto g = line_grid(4);

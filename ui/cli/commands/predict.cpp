@@ -11,6 +11,7 @@
 
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
+#include "predict_series.hpp"
 #include "tocd/acquisition/sim_step_predictor.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/sim/parallel/team.hpp"
@@ -28,6 +29,7 @@ struct PredictOptions {
   st::PredictionRequest request;
   std::string compressed = "cleared", config_path;
   bool json = false;
+  tocd::cli::RunSeriesOptions series;  // --db/--run/--output-dir: a run's steps as a .pvd series
 };
 
 nlohmann::json prediction_json(const st::Prediction& p) {
@@ -116,6 +118,13 @@ void run_relative(const st::ConfigDocument& d, const st::Prediction& p, const st
 }
 
 void run_predict(PredictOptions o) {
+  if (!o.series.db.empty()) {
+    o.series.threads = o.request.threads;
+    o.series.format = o.request.vtu_format;
+    o.series.json = o.json;
+    tocd::cli::predict_run_series(o.series);
+    return;
+  }
   st::PredictionRequest r = o.request;
   std::optional<st::ConfigDocument> document;
   if (!o.config_path.empty()) {
@@ -184,6 +193,15 @@ void install_predict(CLI::App& root) {
   cmd->add_option("--fluence-dir", r.fluence_dir, "write fluence .vtu and slice CSVs here");
   tocd::cli::add_vtu_format_option(cmd, r.vtu_format);
   cmd->add_flag("--json", o->json, "machine-readable output with config and artefacts");
+  auto* db =
+      cmd->add_option("--db", o->series.db, "with --run and --output-dir: re-run a run's stored predictions");
+  auto* run = cmd->add_option("--run", o->series.run, "run id whose steps to re-run (see tocdlab runs)")
+                  ->check(cli::whole_in(std::int64_t{1}, std::numeric_limits<std::int64_t>::max()));
+  auto* dir = cmd->add_option("--output-dir", o->series.output_dir,
+                              "write each step's fluence .vtu and the series run.pvd here");
+  db->needs(run)->needs(dir)->excludes("--config");
+  run->needs(db);
+  dir->needs(db);
   cmd->callback([o] { run_predict(*o); });
 }
 

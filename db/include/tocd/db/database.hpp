@@ -40,7 +40,7 @@ struct ResumePoint {
 /// go through a Writer (writer.hpp), not through this class.
 class Database {
  public:
-  static constexpr int kSchemaVersion = 1;
+  static constexpr int kSchemaVersion = 2;
   static constexpr std::int32_t kApplicationId = 0x544F4344;  // "TOCD" (PRAGMA application_id)
 
   /// Opens (creating when absent) the database at `path`; see the class comment.

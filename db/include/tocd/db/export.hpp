@@ -8,12 +8,14 @@
 namespace tocd::db {
 
 enum class CsvTable {
-  steps,    // one row per step: targets, times, per-channel mean/std/n, measured T, predicted T
-  samples,  // long format: t_ns, t_s (since run start), utc, channel, unit, value
-  events,   // t_ns, utc, kind, step, message
+  steps,    // one row per step (1-based): targets, times, per-channel mean/std/n, measured and predicted T
+  samples,  // long format: t_ns, segment, t_s (since run start), utc, channel, unit, value
+  events,   // t_ns, segment, utc, kind, step (1-based), message
 };
 
-/// Writes one table of a run as CSV (RFC 4180 quoting, '.' decimal point, header row).
+/// Writes one table of a run as CSV (RFC 4180 quoting, LF line ends, '.' decimal point,
+/// header row). UTC times come from the anchor of the segment each row was recorded in;
+/// columns follow the CLI's naming (docs/database.md, "Export").
 void write_csv(const Reader& reader, std::int64_t run_id, CsvTable table, std::ostream& out);
 
 struct JsonExportOptions {

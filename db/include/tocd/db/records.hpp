@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -55,6 +56,9 @@ struct NewRun {
   std::string software_version;  // empty = tocd::version()
   std::string operator_name;
   double baseline_power_W = kUnset;  // glass-only power reference, when known at start
+  /// Instrument settings in force for the run, e.g. "power_meter.wavelength_nm" -> "635",
+  /// "power_meter.sensor" -> the sensor's identity. Stored in table run_settings.
+  std::map<std::string, std::string> settings;
 };
 
 struct RunRecord {
@@ -72,8 +76,12 @@ struct RunRecord {
   std::int64_t started_utc_ns = 0;
   std::optional<std::int64_t> ended_utc_ns;  // set when the run leaves `running`
   RunStatus status = RunStatus::running;
+  std::string host;             // host name of the machine that created the run
+  std::string software_commit;  // `git describe` of the build that created it ("unknown" outside git)
+  std::map<std::string, std::string> settings;  // NewRun::settings
 
-  /// UTC time of a monotonic timestamp of this run (first anchor).
+  /// UTC time of a monotonic timestamp of this run by the first anchor: right only for times
+  /// of segment 0 (before any resume). Use utc_ns(anchors, segment, t_ns) for any segment.
   std::int64_t to_utc_ns(std::int64_t t_ns) const noexcept {
     return wall_anchor_utc_ns + (t_ns - monotonic_anchor_ns);
   }
@@ -88,6 +96,11 @@ struct RunAnchor {
   std::int64_t monotonic_ns = 0;
 };
 
+/// UTC of a monotonic time recorded in anchor segment `segment` of a run, by that segment's
+/// anchor (the wall clock may have been adjusted, the monotonic clock restarted, between
+/// segments). Falls back to the latest anchor below it when `segment` is missing.
+std::int64_t utc_ns(const std::vector<RunAnchor>& anchors, int segment, std::int64_t t_ns) noexcept;
+
 /// A time series of a run: one physical quantity from one instrument.
 struct Channel {
   std::int64_t id = 0;
@@ -98,11 +111,14 @@ struct Channel {
   double nominal_rate_Hz = kUnset;
 };
 
-/// One reading. The writer stores it as (run, channel, t_ns, value).
+/// One reading. The writer stores it as (run, channel, t_ns, value, segment).
 struct Sample {
   std::int64_t channel_id = 0;
   std::int64_t t_ns = 0;  // monotonic ns
   double value = 0;
+  /// Anchor segment it was recorded in. Set by the database when it is written (the run's
+  /// latest segment then); what a caller puts here is ignored.
+  int segment = 0;
 };
 
 /// Per-channel statistics of a step's recording window.
@@ -147,6 +163,7 @@ struct EventRecord {
   std::string message;
   int step_index = -1;    // -1 = not tied to a step
   std::string data_json;  // optional machine-readable details ("" = none)
+  int segment = 0;        // anchor segment; set by the database when written (as Sample)
 };
 
 /// A simulator prediction of a step's transmission.
