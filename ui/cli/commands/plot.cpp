@@ -61,7 +61,7 @@ plot::CompareFigure compare_figure(const PlotOptions& o) {
     s.displacement_mm = l.displacement_mm;
     s.measured_T = l.completed ? l.measured_T : nan;
     s.predicted_T = l.has_prediction ? l.predicted_T : nan;
-    s.predicted_T_se = l.has_prediction ? l.predicted_T_se : nan;
+    s.predicted_T_se = l.has_prediction ? l.predicted_T_stderr : nan;
     f.steps.push_back(s);
   }
   if (f.steps.empty()) throw tocd::ConfigError(fmt::format("run {} in {} has no steps to plot", o.run, o.db));
