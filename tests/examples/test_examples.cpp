@@ -81,7 +81,7 @@ TEST(Examples, MeshIsTwoStacked2mmBlocksAndTheOpticsCoverItsRegions) {
   EXPECT_NEAR(msh::region_volume(mesh, 2), 4.0, 1e-12);
   const auto optics = tocd::sim::mc::load_optics_toml(kDir / "optics/skin-on-glass-633nm.toml");
   for (auto r : mesh.regions) EXPECT_TRUE(optics.regions.count(r)) << "region " << r << " has no optics";
-  EXPECT_DOUBLE_EQ(optics.regions.at(1).mu_s, 28.9);
+  EXPECT_DOUBLE_EQ(optics.regions.at(1).mu_s_per_mm, 28.9);
 }
 
 TEST(Examples, StressStrainIsThePublishedOgdenLaw) {
