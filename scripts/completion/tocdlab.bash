@@ -7,11 +7,10 @@ _tocdlab_help_words() {
   "$@" --help 2>/dev/null | awk -v want="$section" '
     /^[A-Za-z].*:$/ { in_section = ($0 ~ "^" want ":"); next }
     in_section && /^  +[-a-z]/ {
-      for (i = 1; i <= NF; i++) {
-        w = $i; sub(/,$/, "", w)
-        if (w ~ /^-/ || (want == "Subcommands" && i == 1)) print w
-        else break
-      }
+      if (want == "Subcommands") { print $1; next }
+      # "-o,--output TEXT REQUIRED": the names before the first word without a dash
+      n = split($1, names, ",")
+      for (i = 1; i <= n; i++) if (names[i] ~ /^-/) print names[i]
     }'
 }
 
