@@ -41,7 +41,9 @@ void write_figure(const CompareFigure& figure, const std::filesystem::path& path
   }
   if (values == 0) throw ConfigError("compare figure: no step has a measured or predicted transmission");
   // Transmission is a fraction: the axis starts at 0 so ratios between steps read true.
-  const auto x = detail::nice_axis(x_lo, x_hi);
+  // Half a marker-pair of room at both ends, so the first and last steps clear the frame.
+  const double pad = x_hi > x_lo ? 0.05 * (x_hi - x_lo) : 0.1;
+  const auto x = detail::nice_axis(x_lo - pad, x_hi + pad);
   const auto y = detail::nice_axis(std::min(0.0, y_lo), y_hi * 1.15);
   const QRectF area = detail::qrect(chart_area(size));
   detail::render_to_file(path, size, [&](QPainter& p) {
