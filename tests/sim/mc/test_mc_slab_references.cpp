@@ -1,4 +1,4 @@
-// Slabs against the adding-doubling reference values (docs: science/mc-reference-values.md).
+// Slabs against the adding-doubling reference values (docs/model.md, "Monte Carlo reference values").
 // Tolerance: 3 standard errors of this run + 3 of the reference + 0.2 % absolute, as the
 // acceptance criterion states. The slabs are wide enough that side loss is below 1e-4
 // (asserted), so a laterally finite mesh stands in for the infinite slab.

@@ -1,5 +1,5 @@
-// Physics sanity of the composite FE + Monte Carlo pipeline (model note,
-// shared/science/pin-compression-model.md): orderings the published study shows, compared
+// Physics sanity of the composite FE + Monte Carlo pipeline (docs/model.md,
+// "The published study"): orderings the published study shows, compared
 // with tolerances from the Monte Carlo standard errors.
 #include <cmath>
 

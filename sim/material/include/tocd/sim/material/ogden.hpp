@@ -27,7 +27,7 @@ struct OgdenParameters {
   std::vector<double> alpha;  ///< alpha_i [-]
   std::vector<double> D;      ///< D_i [1/MPa]
 
-  /// The published porcine-skin fit (N = 3; see shared/science/pin-compression-model.md).
+  /// The published porcine-skin fit (N = 3; see docs/model.md).
   static OgdenParameters published_skin();
 
   double initial_shear_modulus() const;  ///< sum mu_i [MPa]
