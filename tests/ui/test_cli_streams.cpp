@@ -150,19 +150,3 @@ TEST_F(CliStreams, HelpAndVersionExitZeroOnStdout) {
   }
   EXPECT_NE(run_cli(TOCDLAB_EXE, "mc --help", dir_).out.find("--photons"), std::string::npos);
 }
-
-#ifdef TOCDLAB_GUI_EXE
-TEST_F(CliStreams, GuiAnswersHelpAndVersionWithoutADisplay) {
-  const std::string no_display = "env -u DISPLAY -u WAYLAND_DISPLAY -u QT_QPA_PLATFORM";
-  const auto help = run_cli(TOCDLAB_GUI_EXE, "--help", dir_, no_display);
-  EXPECT_EQ(help.status, 0) << help.err;
-  EXPECT_NE(help.out.find("--demo"), std::string::npos) << help.out;
-  for (const char* flag : {"--version", "-V"}) {
-    const auto v = run_cli(TOCDLAB_GUI_EXE, flag, dir_, no_display);
-    EXPECT_EQ(v.status, 0) << v.err;
-    EXPECT_EQ(v.out.rfind("tocdlab-gui ", 0), 0u) << v.out;
-  }
-  const auto bad = run_cli(TOCDLAB_GUI_EXE, "--no-such-option", dir_, no_display);
-  EXPECT_EQ(bad.status, 2) << bad.err;
-}
-#endif
