@@ -111,26 +111,3 @@ TEST_F(SimTissueCache, ForeignCorruptOrInconsistentEntriesAreRefused) {
   EXPECT_FALSE(mocks::load_sim_tissue_table(file, spec_, why));
   EXPECT_NE(why.find("rows"), std::string::npos) << why;
 }
-
-// The whole path through make_simulated_tissue, with a tiny sample (one displacement, 300
-// photons): first call prepares and stores, second is a hit with identical tables, a damaged
-// entry is prepared again and repaired.
-TEST_F(SimTissueCache, PreparedOnceThenReadThenRebuiltWhenDamaged) {
-  spec_.cache_dir = dir_;
-  mocks::SimTissueTable first, second, third;
-  (void)mocks::make_simulated_tissue(spec_, &first);
-  EXPECT_FALSE(first.from_cache);
-  ASSERT_TRUE(fs::exists(first.cache_file)) << first.cache_file;
-
-  (void)mocks::make_simulated_tissue(spec_, &second);
-  EXPECT_TRUE(second.from_cache);
-  EXPECT_EQ(second.transmission, first.transmission);
-  EXPECT_EQ(second.load_N, first.load_N);
-
-  overwrite(first.cache_file, "{\"key\": 1, ");  // damaged
-  (void)mocks::make_simulated_tissue(spec_, &third);
-  EXPECT_FALSE(third.from_cache);
-  EXPECT_EQ(third.transmission, first.transmission);  // same seed: the same tables again
-  std::string why;
-  EXPECT_TRUE(mocks::load_sim_tissue_table(first.cache_file, spec_, why)) << why;  // repaired
-}
