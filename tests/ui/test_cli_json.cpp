@@ -112,7 +112,7 @@ TEST_F(CliJson, FitReadsItsDataFromDataCsv) {
 }
 
 TEST_F(CliJson, PowermeterList) {
-  const auto j = json_of("powermeter list --json");
+  const auto j = json_of("powermeter list-usb --json");
   EXPECT_TRUE(j.contains("devices"));
 }
 
