@@ -105,12 +105,3 @@ TEST(NamingTable, CsvHeaderAndLineEndings) {
   const std::string csv = cli::to_naming_table_csv("step,T,T_stderr\r\n1,0.5,0.01\r\n");
   EXPECT_EQ(csv, "step,T,T_se\n1,0.5,0.01\n");
 }
-
-TEST(ProgressBar, LineModeDoesNotRepeatTheFinalCount) {
-  std::ostringstream out;
-  cli::ProgressBar bar(out, cli::ProgressMode::lines, "job", 2, "items", std::chrono::milliseconds(0));
-  bar.update(2);
-  bar.finish();
-  const std::string s = out.str();
-  EXPECT_EQ(s.find("2/2"), s.rfind("2/2")) << s;
-}

@@ -100,9 +100,8 @@ void ProgressBar::finish() {
   std::lock_guard lock(mu_);
   if (finished_) return;
   finished_ = true;
-  // In line mode a job shorter than one interval said nothing and needs no closing line, and a
-  // line already showing the final count is not repeated.
-  if (mode_ == ProgressMode::lines && (!drawn_ || drawn_done_ == done_)) return;
+  // A job shorter than one interval said nothing in line mode: it needs no closing line either.
+  if (mode_ == ProgressMode::lines && !drawn_) return;
   draw(done_, true);
 }
 
@@ -117,7 +116,6 @@ void ProgressBar::draw(std::uint64_t done, bool final) {
   }
   out_ << std::flush;
   drawn_ = true;
-  drawn_done_ = done;
 }
 
 struct ElapsedTicker::State {

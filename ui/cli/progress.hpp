@@ -61,7 +61,7 @@ class ProgressBar {
   std::chrono::milliseconds line_interval_;
   std::chrono::steady_clock::time_point start_, last_draw_;
   std::mutex mu_;
-  std::uint64_t total_, done_ = 0, drawn_done_ = 0;
+  std::uint64_t total_, done_ = 0;
   bool drawn_ = false, finished_ = false;
 };
 
