@@ -2,10 +2,12 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include <fmt/format.h>
 
 #include "tocd/core/error.hpp"
+#include "tocd/mocks/sim_tissue_cache.hpp"
 #include "tocd/sim/fe/solve.hpp"
 #include "tocd/sim/study/predictor.hpp"
 
@@ -35,9 +37,52 @@ void check_spec(const SimTissueSpec& s) {
 
 }  // namespace
 
+namespace {
+
+SimTissueTable prepare_tables(const SimTissueSpec& spec);
+
+}  // namespace
+
 std::shared_ptr<TissueModel> make_simulated_tissue(const SimTissueSpec& spec, SimTissueTable* table_out) {
   check_spec(spec);
   const auto t0 = std::chrono::steady_clock::now();
+  auto say = [&](const std::string& line) {
+    if (spec.progress) spec.progress(line);
+  };
+  SimTissueTable table;
+  std::filesystem::path cache_file;
+  std::optional<SimTissueTable> cached;
+  if (!spec.cache_dir.empty()) {
+    cache_file = sim_tissue_cache_file(spec.cache_dir, spec);
+    std::string why;
+    cached = load_sim_tissue_table(cache_file, spec, why);
+    if (!cached) say(fmt::format("simulated sample: preparing ({}: {})", why, cache_file.string()));
+  }
+  if (cached) {
+    table = std::move(*cached);
+    table.from_cache = true;
+    say(fmt::format("simulated sample: prepared tables from cache {}", cache_file.string()));
+  } else {
+    table = prepare_tables(spec);
+    if (!cache_file.empty()) {
+      try {
+        store_sim_tissue_table(cache_file, spec, table);
+      } catch (const Error& e) {
+        say(fmt::format("simulated sample: not cached: {}", e.what()));
+      }
+    }
+  }
+  table.cache_file = cache_file.string();
+  table.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  auto tissue = make_tabulated_tissue(table.displacement_mm, table.load_N, table.transmission);
+  if (table_out) *table_out = std::move(table);
+  return tissue;
+}
+
+namespace {
+
+// The FE load curve and the Monte Carlo transmission at every tabulated displacement.
+SimTissueTable prepare_tables(const SimTissueSpec& spec) {
   auto say = [&](const std::string& line) {
     if (spec.progress) spec.progress(line);
   };
@@ -89,10 +134,9 @@ std::shared_ptr<TissueModel> make_simulated_tissue(const SimTissueSpec& spec, Si
     say(fmt::format("simulated sample: d = {:.3f} mm  load {:.4f} N  T/T0 {:.4f}", d,
                     table.load_N[table.transmission.size() - 1], T));
   }
-  table.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  auto tissue = make_tabulated_tissue(table.displacement_mm, table.load_N, table.transmission);
-  if (table_out) *table_out = std::move(table);
-  return tissue;
+  return table;
 }
+
+}  // namespace
 
 }  // namespace tocd::mocks

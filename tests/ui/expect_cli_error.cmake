@@ -1,9 +1,17 @@
-# Runs EXE with ARGS ('|'-separated) and fails unless it exits 1, writes nothing on stdout and
-# writes EXPECT (a plain substring) on stderr.
+# Runs EXE with ARGS ('|'-separated) and fails unless it exits STATUS (1 when not given: bad
+# input; 2: usage), writes nothing on stdout and writes EXPECT (a plain substring) on stderr,
+# after the "tocdlab: " prefix every error message starts with.
 string(REPLACE "|" ";" args "${ARGS}")
 execute_process(COMMAND ${EXE} ${args} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 50)
-if(NOT rc STREQUAL "1")
-  message(FATAL_ERROR "tocdlab ${args}: exit status '${rc}', expected 1\nstdout: ${out}\nstderr: ${err}")
+if(NOT DEFINED STATUS)
+  set(STATUS 1)
+endif()
+if(NOT rc STREQUAL "${STATUS}")
+  message(FATAL_ERROR "tocdlab ${args}: exit status '${rc}', expected ${STATUS}\nstdout: ${out}\nstderr: ${err}")
+endif()
+string(FIND "${err}" "tocdlab: " prefix)
+if(NOT prefix EQUAL 0)
+  message(FATAL_ERROR "tocdlab ${args}: stderr does not start with 'tocdlab: ':\n${err}")
 endif()
 if(NOT out STREQUAL "")
   message(FATAL_ERROR "tocdlab ${args}: expected nothing on stdout, got: ${out}")

@@ -8,6 +8,7 @@
 
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
+#include "progress.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/core/log.hpp"
 #include "tocd/core/version.hpp"
@@ -29,6 +30,21 @@ int fail(const char* kind, const char* what, int status) {
   return status;
 }
 
+// CLI11 checks required options before unknown ones, so `tocdlab mc --bogus` would complain
+// about the missing --optics and never mention the typo. An unknown argument is the likelier
+// mistake: name it first.
+std::string usage_message(const CLI::App& app, const CLI::ParseError& e) {
+  if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr) {
+    const std::vector<std::string> extras = app.remaining(true);
+    if (!extras.empty()) {
+      std::string list;
+      for (const auto& x : extras) list += (list.empty() ? "" : " ") + x;
+      return "unknown argument" + std::string(extras.size() > 1 ? "s: " : ": ") + list;
+    }
+  }
+  return e.what();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -43,31 +59,41 @@ int main(int argc, char** argv) {
   app.set_version_flag("-V,--version", std::string("tocdlab ") + std::string(tocd::version()));
   app.require_subcommand(0, 1);
   std::string log_level = "warn";
-  app.add_option("--log-level", log_level, "trace, debug, info, warn, error, critical or off")
+  app.add_option("--log-level", log_level,
+                 "trace, debug, info, warn, error, critical or off (debug: run phases; trace: every "
+                 "instrument frame)")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}))
       ->capture_default_str();
+  bool quiet = false;
+  app.add_flag("-q,--quiet", quiet, "no progress display on stderr (errors are still reported)");
   // Runs after parsing, before any subcommand's callback, so commands log at the chosen level.
-  app.parse_complete_callback([&log_level] { tocd::set_log_level(log_level); });
+  app.parse_complete_callback([&log_level, &quiet] {
+    tocd::set_log_level(log_level);
+    tocd::cli::set_progress_quiet(quiet);
+  });
 
   auto& registry = tocd::cli::command_registry();
   std::sort(registry.begin(), registry.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
   for (const auto& entry : registry) entry.install(app);
   tocd::cli::check_numeric_syntax(app);
-  // Bad options read like every other error, and exit 1 like them (CLI11's own codes are
-  // 100-120, which scripts would have to know).
-  app.failure_message([](const CLI::App*, const CLI::Error& e) {
-    return std::string("tocdlab: error: ") + e.what() + "\nRun with --help for more information.\n";
-  });
 
+  // Exit status (docs/cli.md): 0 ok, 1 error, 2 usage. CLI11's own codes (100-120) would be
+  // one more table for scripts to know; every command-line mistake is a usage error.
   try {
-    app.parse(argc, argv);  // subcommand callbacks run inside parse
-  } catch (const CLI::ParseError& e) {
-    const int status = app.exit(e) == 0 ? 0 : 1;  // --help and --version exit 0
+    app.parse(argc, argv);           // subcommand callbacks run inside parse
+  } catch (const CLI::Success& e) {  // --help, --help-all, --version: on stdout
+    app.exit(e);
     tocd::sim::parallel::finish_world();
-    return status;
+    return 0;
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "tocdlab: usage error: " << usage_message(app, e)
+              << "\nRun with --help for more information.\n";
+    tocd::sim::parallel::finish_world();
+    return 2;
   } catch (const tocd::Error& e) {
     return fail("error", e.what(), 1);
   } catch (const std::exception& e) {
-    return fail("internal error", e.what(), 2);
+    return fail("internal error", e.what(), 1);
   }
   if (app.get_subcommands().empty()) std::cout << app.help();
   tocd::sim::parallel::finish_world();

@@ -1,8 +1,10 @@
 #include <QApplication>
 #include <QCommandLineParser>
+#include <QCoreApplication>
 #include <QDir>
 #include <QTemporaryDir>
 #include <cstdio>
+#include <string>
 
 #include "demo.hpp"
 #include "main_window.hpp"
@@ -10,15 +12,12 @@
 #include "tocd/core/version.hpp"
 
 int main(int argc, char** argv) {
-  QApplication app(argc, argv);
-  QApplication::setApplicationName(QStringLiteral("tocdlab"));
-  QApplication::setOrganizationName(QStringLiteral("tocdlab"));
-  QApplication::setApplicationVersion(QString::fromUtf8(tocd::version().data()));
-
   QCommandLineParser cli;
   cli.setApplicationDescription(QStringLiteral("tocdlab workbench window"));
-  cli.addHelpOption();
-  cli.addVersionOption();
+  const QCommandLineOption help = cli.addHelpOption();
+  // -V/--version as in `tocdlab` (Qt's own version option is -v).
+  const QCommandLineOption version(QStringList{QStringLiteral("V"), QStringLiteral("version")},
+                                   QStringLiteral("Displays version information."));
   const QCommandLineOption demo(QStringLiteral("demo"),
                                 QStringLiteral("Run the demo protocol on the simulated lab, then exit."));
   const QCommandLineOption screenshot(QStringLiteral("screenshot"),
@@ -33,8 +32,32 @@ int main(int argc, char** argv) {
   const QCommandLineOption clock(QStringLiteral("clock-factor"),
                                  QStringLiteral("Simulated seconds per real second for the simulated lab."),
                                  QStringLiteral("F"));
-  cli.addOptions({demo, screenshot, db, photons, clock});
-  cli.process(app);
+  cli.addOptions({version, demo, screenshot, db, photons, clock});
+  // The command line is read before the QApplication exists: a QApplication aborts without a
+  // display, and --help, --version and usage errors need none (docs/cli.md: exit 0 / 2).
+  {
+    const QCoreApplication console(argc, argv);
+    QCoreApplication::setApplicationName(QStringLiteral("tocdlab-gui"));
+    QCoreApplication::setApplicationVersion(QString::fromUtf8(tocd::version().data()));
+    if (!cli.parse(QCoreApplication::arguments())) {
+      std::fprintf(stderr, "tocdlab-gui: usage error: %s\nRun with --help for more information.\n",
+                   qPrintable(cli.errorText()));
+      return 2;
+    }
+    if (cli.isSet(help)) {
+      std::fputs(qPrintable(cli.helpText()), stdout);
+      return 0;
+    }
+    if (cli.isSet(version)) {
+      std::printf("tocdlab-gui %s\n", std::string(tocd::version()).c_str());
+      return 0;
+    }
+  }
+
+  QApplication app(argc, argv);
+  QApplication::setApplicationName(QStringLiteral("tocdlab"));
+  QApplication::setOrganizationName(QStringLiteral("tocdlab"));
+  QApplication::setApplicationVersion(QString::fromUtf8(tocd::version().data()));
 
   tocd::gui::MainWindow window;
   if (cli.isSet(photons)) {
@@ -45,7 +68,7 @@ int main(int argc, char** argv) {
   auto lab = window.simulated_lab_options();
   lab.clock_factor = cli.isSet(clock) ? cli.value(clock).toDouble() : 5.0;
   if (!(lab.clock_factor > 0)) {
-    std::fprintf(stderr, "tocdlab-gui: --clock-factor must be a positive number\n");
+    std::fprintf(stderr, "tocdlab-gui: usage error: --clock-factor must be a positive number\n");
     return 2;
   }
   window.set_simulated_lab_options(lab);

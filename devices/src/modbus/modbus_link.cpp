@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <thread>
+#include <vector>
 
 #include <fmt/format.h>
 #include <modbus/modbus.h>
@@ -14,9 +15,21 @@
 #include "tocd/core/error.hpp"
 #include "tocd/core/log.hpp"
 #include "tocd/devices/errors.hpp"
+#include "trace.hpp"
 
 namespace tocd::devices {
 namespace {
+
+// Registers as the big-endian bytes they travel as, for the trace.
+std::vector<std::uint8_t> register_bytes(const std::uint16_t* regs, int count) {
+  std::vector<std::uint8_t> b;
+  b.reserve(static_cast<std::size_t>(2 * std::max(count, 0)));
+  for (int i = 0; i < count; ++i) {
+    b.push_back(static_cast<std::uint8_t>(regs[i] >> 8));
+    b.push_back(static_cast<std::uint8_t>(regs[i] & 0xff));
+  }
+  return b;
+}
 
 const char* exception_name(int code) {
   switch (code) {
@@ -261,28 +274,54 @@ void ModbusLink::transact(const std::string& operation, const std::function<int(
   throw ConnectionError(instrument_, operation, what);
 }
 
+// Requests and answers as protocol data units (function code, address, count, data; the
+// TCP header / RTU address and CRC are libmodbus's), logged at trace level.
 void ModbusLink::read_input(int address, int count, std::uint16_t* dest, std::string_view what) {
+  if (trace_enabled())
+    trace_log().trace("{}: modbus tx {}", instrument_,
+                      modbus_pdu_hex(MODBUS_FC_READ_INPUT_REGISTERS, address, count));
   transact(register_operation("read", "input", address, count, what), [&](modbus_t* ctx) {
     const int rc = modbus_read_input_registers(ctx, address, count, dest);
     return rc == count || rc < 0 ? rc : (errno = EMBBADDATA, -1);
   });
+  if (trace_enabled())
+    trace_log().trace("{}: modbus rx {:02x} {:02x} {}", instrument_, MODBUS_FC_READ_INPUT_REGISTERS,
+                      2 * count, hex_bytes(register_bytes(dest, count), 512));
 }
 
 void ModbusLink::read_holding(int address, int count, std::uint16_t* dest, std::string_view what) {
+  if (trace_enabled())
+    trace_log().trace("{}: modbus tx {}", instrument_,
+                      modbus_pdu_hex(MODBUS_FC_READ_HOLDING_REGISTERS, address, count));
   transact(register_operation("read", "holding", address, count, what), [&](modbus_t* ctx) {
     const int rc = modbus_read_registers(ctx, address, count, dest);
     return rc == count || rc < 0 ? rc : (errno = EMBBADDATA, -1);
   });
+  if (trace_enabled())
+    trace_log().trace("{}: modbus rx {:02x} {:02x} {}", instrument_, MODBUS_FC_READ_HOLDING_REGISTERS,
+                      2 * count, hex_bytes(register_bytes(dest, count), 512));
 }
 
 void ModbusLink::write_registers(int address, int count, const std::uint16_t* values, std::string_view what) {
+  if (trace_enabled())
+    trace_log().trace("{}: modbus tx {}", instrument_,
+                      modbus_pdu_hex(MODBUS_FC_WRITE_MULTIPLE_REGISTERS, address, count, values, count));
   transact(register_operation("write", "holding", address, count, what),
            [&](modbus_t* ctx) { return modbus_write_registers(ctx, address, count, values); });
+  if (trace_enabled())
+    trace_log().trace("{}: modbus rx {}", instrument_,
+                      modbus_pdu_hex(MODBUS_FC_WRITE_MULTIPLE_REGISTERS, address, count));
 }
 
 void ModbusLink::write_register(int address, std::uint16_t value, std::string_view what) {
+  if (trace_enabled())
+    trace_log().trace("{}: modbus tx {}", instrument_,
+                      modbus_pdu_hex(MODBUS_FC_WRITE_SINGLE_REGISTER, address, -1, &value, 1));
   transact(register_operation("write", "holding", address, 1, what),
            [&](modbus_t* ctx) { return modbus_write_register(ctx, address, value); });
+  if (trace_enabled())
+    trace_log().trace("{}: modbus rx {}", instrument_,
+                      modbus_pdu_hex(MODBUS_FC_WRITE_SINGLE_REGISTER, address, -1, &value, 1));
 }
 
 }  // namespace tocd::devices

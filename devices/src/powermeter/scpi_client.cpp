@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "tocd/core/log.hpp"
+#include "trace.hpp"
 
 namespace tocd::devices {
 namespace {
@@ -95,9 +96,11 @@ std::string ScpiClient::transact(std::string_view message, bool expect_answer,
     const auto deadline = Clock::now() + options_.timeout + extra;
     try {
       ensure_open(deadline);
+      if (trace_enabled()) trace_log().trace("{}: scpi -> {}", instrument_, printable(cmd));
       link_->write(message, deadline);
       if (!expect_answer) return {};
       std::string answer = link_->read(deadline);
+      if (trace_enabled()) trace_log().trace("{}: scpi <- {}", instrument_, printable(answer));
       if (!is_text(answer)) {
         recover_after_failure(LinkFailure::protocol);
         throw ProtocolError(

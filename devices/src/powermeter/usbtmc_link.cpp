@@ -7,6 +7,7 @@
 
 #include "tocd/core/error.hpp"
 #include "tocd/devices/usbtmc.hpp"
+#include "trace.hpp"
 
 namespace tocd::devices::usbtmc {
 namespace {
@@ -147,6 +148,9 @@ void Link::write(std::string_view message, Clock::time_point deadline) {
     const bool eom = pos + n == text.size();
     const std::uint8_t tag = take_tag();
     const auto transfer = encode_dev_dep_msg_out(tag, {bytes + pos, n}, eom);
+    if (trace_enabled())
+      trace_log().trace("{}: usbtmc bulk-OUT DEV_DEP_MSG_OUT bTag {}: {}", description_, tag,
+                        hex_bytes(transfer));
     const UsbTransfer r = endpoint_->bulk_out(transfer, left(deadline));
     if (r.status == UsbStatus::disconnected) fail(LinkFailure::disconnected, "device disconnected");
     if (r.status != UsbStatus::ok || r.length != transfer.size()) {
@@ -166,6 +170,9 @@ std::string Link::read(Clock::time_point deadline) {
   for (;;) {
     const std::uint8_t tag = take_tag();
     const auto request = encode_request_dev_dep_msg_in(tag, options_.max_in_transfer);
+    if (trace_enabled())
+      trace_log().trace("{}: usbtmc bulk-OUT REQUEST_DEV_DEP_MSG_IN bTag {}: {}", description_, tag,
+                        hex_bytes(request));
     const UsbTransfer w = endpoint_->bulk_out(request, left(deadline));
     if (w.status == UsbStatus::disconnected) fail(LinkFailure::disconnected, "device disconnected");
     if (w.status != UsbStatus::ok) {
@@ -184,6 +191,8 @@ std::string Link::read(Clock::time_point deadline) {
       fail(LinkFailure::protocol, fmt::format("bulk-IN transfer: {} {}", status_name(r.status), r.detail));
     }
     const std::span<const std::uint8_t> transfer(buf.data(), r.length);
+    if (trace_enabled())
+      trace_log().trace("{}: usbtmc bulk-IN bTag {}: {}", description_, tag, hex_bytes(transfer));
     const InHeader h = decode_dev_dep_msg_in(transfer, tag, options_.max_in_transfer);
     message.append(reinterpret_cast<const char*>(transfer.data() + header_size), h.transfer_size);
     if (message.size() > options_.max_message)

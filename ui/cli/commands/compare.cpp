@@ -6,6 +6,7 @@
 
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
+#include "output_naming.hpp"
 #include "tocd/acquisition/compare_table.hpp"
 #include "tocd/db/reader.hpp"
 
@@ -30,7 +31,7 @@ void install_compare(CLI::App& root) {
   cmd->callback([o] {
     const auto table = tocd::acquisition::compare_table(tocd::db::Reader(o->db), o->run);
     if (o->json) {
-      std::cout << tocd::acquisition::to_json(table).dump(2) << '\n';
+      cli::print_json(tocd::acquisition::to_json(table));
     } else {
       std::cout << tocd::acquisition::format_compare_table(table);
     }

@@ -4,28 +4,32 @@
 // as CSV. The simulated sample deliberately differs from the model's default tissue (stiffer,
 // strain-graded optics) so that the comparison is not circular.
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <memory>
 #include <string>
 
 #include <fmt/format.h>
-#include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
+#include "output_naming.hpp"
+#include "progress.hpp"
 #include "run_progress.hpp"
 #include "tocd/acquisition/compare_table.hpp"
 #include "tocd/acquisition/engine.hpp"
 #include "tocd/acquisition/lab_session.hpp"
 #include "tocd/acquisition/protocol.hpp"
 #include "tocd/acquisition/sim_step_predictor.hpp"
+#include "tocd/core/atomic_file.hpp"
 #include "tocd/core/error.hpp"
+#include "tocd/core/log.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/devices/lab.hpp"
 #include "tocd/mocks/sim_tissue.hpp"
+#include "tocd/mocks/sim_tissue_cache.hpp"
 #include "tocd/mocks/simulated_lab.hpp"
 
 namespace cli = tocd::cli;
@@ -34,8 +38,10 @@ namespace {
 
 struct DemoOptions {
   std::string db = "tocdlab-demo.db";
-  std::string csv;  // default: next to the database
+  std::string csv;  // -o/--output; default: next to the database
   std::string protocol;
+  std::string cache_dir = tocd::mocks::default_sim_tissue_cache_dir().string();
+  bool no_cache = false;
   std::uint64_t photons = 100000;
   std::uint64_t sample_photons = 50000;
   std::uint64_t seed = 1;
@@ -60,10 +66,27 @@ void run_demo(const DemoOptions& o) {
     if (s.displacement_mm > 0) spec.displacements_mm.push_back(s.displacement_mm);
   spec.photons = o.sample_photons;
   spec.threads = o.threads;
-  spec.progress = [](const std::string& line) { std::cout << line << std::endl; };
+  if (!o.no_cache) spec.cache_dir = o.cache_dir;
   tocd::mocks::SimTissueTable table;
-  auto tissue = tocd::mocks::make_simulated_tissue(spec, &table);
-  std::cout << fmt::format("simulated sample ready ({:.1f} s)\n", table.seconds);
+  std::shared_ptr<tocd::mocks::TissueModel> tissue;
+  {
+    // Stages of the sample's preparation as notes above a bar over them (FE, then one Monte
+    // Carlo point per tabulated displacement plus the glass-only baseline).
+    cli::ProgressBar bar("simulated sample", spec.displacements_mm.size() + 3, "stages");
+    std::uint64_t stages = 0;
+    spec.progress = [&](const std::string& line) {
+      bar.note(line);
+      bar.update(++stages);
+    };
+    tissue = tocd::mocks::make_simulated_tissue(spec, &table);
+  }
+  if (!cli::progress_quiet())
+    std::cerr << fmt::format("simulated sample ready ({:.1f} s{})\n", table.seconds,
+                             table.from_cache ? ", from cache" : "");
+  const auto log = tocd::logger("cli");
+  const cli::PhaseTimer phases(*log, "demo");
+  log->debug("demo: phase 'simulated sample' took {:.3f} s ({})", table.seconds,
+             table.from_cache ? "from cache " + table.cache_file : "computed");
 
   // 2. The simulated lab on loopback TCP / a pty, and the instruments through the real drivers.
   tocd::cli::AbortOnSignal signals(std::cerr);
@@ -75,6 +98,7 @@ void run_demo(const DemoOptions& o) {
   so.with_vacuum = false;
   so.seed = o.seed;
   tocd::mocks::SimulatedLab lab(so);
+  phases.mark("simulated lab started");
   const tocd::devices::LabConfig lab_cfg = lab.config();
 
   // 3. The model that predicts each step: the published skin at the sample's thickness.
@@ -90,7 +114,7 @@ void run_demo(const DemoOptions& o) {
   eo.operator_name = "tocdlab demo";
   eo.unattended = true;  // a fault ends the demo run (interrupted) rather than pausing it for good
   eo.lab_config_text = "# simulated lab (tocdlab demo)\n" + tocd::devices::to_toml(lab_cfg);
-  tocd::cli::TerminalProgress progress(std::cout, ::isatty(STDOUT_FILENO) != 0);
+  tocd::cli::TerminalProgress progress;
   acq::EngineState final_state;
   std::int64_t run_id = 0;
   std::string error;
@@ -99,29 +123,38 @@ void run_demo(const DemoOptions& o) {
     acq::Engine& engine = lab_session.engine();
     const tocd::cli::AbortOnSignal::Attached attached(signals, engine);
     run_id = engine.start(protocol);
-    std::cout << fmt::format("run {} ({} steps) recording into {}", run_id, protocol.steps.size(), o.db)
-              << std::endl;
+    if (!cli::progress_quiet())
+      std::cerr << fmt::format("run {} ({} steps) recording into {}", run_id, protocol.steps.size(), o.db)
+                << std::endl;
+    phases.mark("run started");
     final_state = engine.wait();
     error = engine.error();
+    phases.mark("run recorded and predicted");
   }
 
-  // 4. Measured vs. predicted, on the terminal and as CSV.
+  // 4. Measured vs. predicted: the table (or with --json the whole run summary) on stdout, the
+  // CSV file beside the database, the files written announced on stderr.
   const acq::CompareTable t = acq::compare_table(tocd::db::Reader(o.db), run_id);
-  {
-    std::ofstream csv(csv_path);
-    if (!csv) throw tocd::Error(fmt::format("cannot write '{}'", csv_path));
-    csv << acq::format_compare_csv(t);
-  }
+  tocd::write_file_atomically(csv_path, cli::to_naming_table_csv(acq::format_compare_csv(t)));
+  phases.mark("compare table written");
   if (o.json) {
-    std::cout << acq::to_json(t).dump(2) << '\n';
+    nlohmann::json summary = {
+        {"run_id", run_id},
+        {"state", acq::to_string(final_state)},
+        {"error", error},
+        {"files", {{"database", o.db}, {"csv", csv_path}}},
+        {"simulated_sample",
+         {{"seconds", table.seconds}, {"from_cache", table.from_cache}, {"cache_file", table.cache_file}}},
+        {"compare", acq::to_json(t)}};
+    cli::print_json(summary);
   } else {
-    std::cout << '\n' << acq::format_compare_table(t);
+    std::cout << acq::format_compare_table(t);
     std::cout
         << "T = transmitted power / glass-only baseline power; predicted T from the FE + Monte Carlo model "
            "(published Ogden skin, threshold optics) +- its Monte Carlo standard error.\n";
   }
-  std::cout << fmt::format("database: {}  (tocdlab compare --db {} --run {})\ncsv: {}\n", o.db, o.db, run_id,
-                           csv_path);
+  cli::announce_file("database", fmt::format("{}  (tocdlab compare --db {} --run {})", o.db, o.db, run_id));
+  cli::announce_file("table (CSV)", csv_path);
   if (final_state != acq::EngineState::completed)
     throw tocd::Error(fmt::format("demo run {} ended {}: {}", run_id, acq::to_string(final_state), error));
   std::size_t missing = 0;
@@ -138,8 +171,9 @@ void install_demo(CLI::App& root) {
   auto o = std::make_shared<DemoOptions>();
   cmd->add_option("--db", o->db, "measurement database file (created when absent; runs are appended)")
       ->capture_default_str();
-  cmd->add_option("--csv", o->csv,
+  cmd->add_option("-o,--output", o->csv,
                   "measured vs. predicted table as CSV (default: the database name with .csv)");
+  cmd->add_option("--csv", o->csv, "deprecated: use -o FILE.csv")->group("");
   cmd->add_option("--photons", o->photons, "Monte Carlo photons per predicted step")
       ->check(cli::whole_in(std::uint64_t{1}, cli::kMaxPhotons))
       ->capture_default_str();
@@ -158,7 +192,14 @@ void install_demo(CLI::App& root) {
       ->capture_default_str();
   cmd->add_option("--protocol", o->protocol,
                   "another pin-compression protocol TOML instead of the built-in one");
-  cmd->add_flag("--json", o->json, "print the compare table as JSON");
+  cmd->add_flag(
+      "--json", o->json,
+      "print the run summary (per-step measured vs. predicted, files written) as one JSON document");
+  cmd->add_option("--cache-dir", o->cache_dir,
+                  "where the simulated sample's prepared tables are cached ($TOCDLAB_CACHE_DIR, else "
+                  "$XDG_CACHE_HOME/tocdlab, else ~/.cache/tocdlab)")
+      ->capture_default_str();
+  cmd->add_flag("--no-cache", o->no_cache, "prepare the simulated sample afresh and do not cache it");
   cmd->callback([o] { run_demo(*o); });
 }
 

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
+#include "output_naming.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/devices/lab.hpp"
 
@@ -71,7 +72,7 @@ void run_probe(const ProbeOptions& o) {
                             {"error_code", r.error_code}};
     });
   if (o.json) {
-    std::cout << out.dump(2) << '\n';
+    tocd::cli::print_json(out);
   } else {
     for (const auto& [name, v] : out.items()) {
       if (v.contains("error")) {

@@ -61,7 +61,8 @@ void install_export(CLI::App& root) {
   cmd->add_option("--max-points", o->max_points, "JSON: at most this many samples per channel (0 = all)")
       ->check(cli::whole_in(std::uint64_t{0}, std::uint64_t{100000000}))
       ->capture_default_str();
-  cmd->add_option("-o,--out", o->out, "output file (default: standard output)");
+  cmd->add_option("-o,--output", o->out, "output file (default: standard output)");
+  cmd->add_option("--out", o->out, "deprecated: use -o/--output")->group("");
   cmd->callback([o] { export_run(*o); });
 }
 

@@ -10,6 +10,8 @@
 
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
+#include "output_naming.hpp"
+#include "progress.hpp"
 #include "tocd/sim/fe/solve.hpp"
 #include "vtu_format_option.hpp"
 
@@ -62,22 +64,31 @@ void run_fe(const FeOptions& o) {
   m.depth_mm = o.depth_mm;
   m.bottom = fe::parse_bottom(o.bottom);
   m.kinematics = fe::parse_kinematics(o.kinematics);
-  const fe::FeResult r = fe::solve(m, parse_list(o.displacements));
+  const std::vector<double> displacements = parse_list(o.displacements);
+  const fe::FeResult r = [&] {
+    const cli::ElapsedTicker ticker(fmt::format("fe: solving {} step(s) to {} mm", displacements.size(),
+                                                displacements.empty() ? 0.0 : displacements.back()));
+    return fe::solve(m, displacements);
+  }();
   if (!o.vtu.empty())
-    for (std::size_t k = 0; k < r.steps.size(); ++k)
-      fe::write_vtu(r.steps[k], step_path(o.vtu, k, r.steps.size()), o.vtu_format);
+    for (std::size_t k = 0; k < r.steps.size(); ++k) {
+      const auto path = step_path(o.vtu, k, r.steps.size());
+      fe::write_vtu(r.steps[k], path, o.vtu_format);
+      cli::announce_file(fmt::format("step {} mesh", k + 1), path.string());
+    }
   if (o.json) {
-    std::cout << fe::to_json(r).dump(2) << '\n';
+    cli::print_json(fe::to_json(r));
     return;
   }
   std::cout << fmt::format("{} skin {} mm, pin radius {} mm, bottom {}\n", fe::to_string(m.kinematics),
                            m.thickness_mm, m.pin_radius_mm, fe::to_string(m.bottom));
-  std::cout << fmt::format("{:>8} {:>8} {:>10} {:>12} {:>12} {:>9} {:>7} {:>6}\n", "d [mm]", "strain",
-                           "force [N]", "area [mm2]", "vol [mm3]", "min LE", "incr", "Newton");
-  for (const auto& s : r.steps) {
+  std::cout << fmt::format("{:>4} {:>8} {:>8} {:>10} {:>12} {:>12} {:>9} {:>7} {:>6}\n", "step", "d [mm]",
+                           "strain", "force [N]", "area [mm2]", "vol [mm3]", "min LE", "incr", "Newton");
+  for (std::size_t k = 0; k < r.steps.size(); ++k) {
+    const auto& s = r.steps[k];
     double le = 0;
     for (double v : s.element_min_log_strain) le = std::min(le, v);
-    std::cout << fmt::format("{:8.4f} {:8.3f} {:10.5f} {:12.4f} {:12.4f} {:9.3f} {:7d} {:6d}\n",
+    std::cout << fmt::format("{:4d} {:8.4f} {:8.3f} {:10.5f} {:12.4f} {:12.4f} {:9.3f} {:7d} {:6d}\n", k + 1,
                              s.displacement_mm, s.displacement_mm / m.thickness_mm, s.force_N,
                              s.compressed_area_mm2, s.compressed_volume_mm3, le, s.load_increments,
                              s.newton_iterations);
@@ -91,6 +102,18 @@ void install_fe(CLI::App& root) {
   auto* cmd = root.add_subcommand("fe", "Finite-strain FE of a rigid pin pressed into skin (see docs/fe.md)");
   auto o = std::make_shared<FeOptions>();
   cmd->add_option("--displacement", o->displacements, "pin displacements [mm], ascending, comma separated")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            // A bad list is a usage error (exit 2) like every other refused option value.
+            try {
+              (void)parse_list(text);
+              return std::string();
+            } catch (const tocd::sim::fe::FeError& e) {
+              const std::string what = e.what(), prefix = "--displacement: ";
+              return what.starts_with(prefix) ? what.substr(prefix.size()) : what;
+            }
+          },
+          "MM[,MM...]"))
       ->capture_default_str();
   cmd->add_option("--bottom", o->bottom, "skin on the slide: bonded | sliding")->capture_default_str();
   cmd->add_option("--kinematics", o->kinematics, "axi | plane-strain | plane-stress")->capture_default_str();

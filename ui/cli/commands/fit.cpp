@@ -11,6 +11,8 @@
 
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
+#include "output_naming.hpp"
+#include "progress.hpp"
 #include "tocd/acquisition/run_stress_strain.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/db/reader.hpp"
@@ -31,7 +33,7 @@ struct FitCliOptions {
 void run_fit(const FitCliOptions& o) {
   namespace mat = tocd::sim::material;
   if (o.csv.empty() == o.db.empty())
-    throw tocd::ConfigError("give exactly one of --csv FILE or --db FILE --run ID");
+    throw tocd::ConfigError("give exactly one of --data FILE.csv or --db FILE --run ID");
   mat::StressStrainData d;
   if (!o.csv.empty()) {
     d = mat::read_stress_strain_csv(o.csv);
@@ -41,8 +43,8 @@ void run_fit(const FitCliOptions& o) {
         tocd::acquisition::stress_strain_from_run(tocd::db::Reader(o.db), o.run, o.pin_radius, o.bins);
     d.strain = ss.strain;
     d.stress = ss.stress_MPa;
-    if (!o.json)
-      std::cout << fmt::format(
+    if (!cli::progress_quiet())
+      std::cerr << fmt::format(
           "run {}: {} load/displacement pairs on the loading branch, {} mm sample, pin radius {} mm\n", o.run,
           ss.pairs_used, ss.thickness_mm, ss.pin_radius_mm);
   }
@@ -67,7 +69,7 @@ void run_fit(const FitCliOptions& o) {
                       {"lambda_min", r.stability.lambda_min},
                       {"lambda_max", r.stability.lambda_max},
                       {"first_failure", r.stability.first_failure}};
-    std::cout << j.dump(2) << '\n';
+    cli::print_json(j);
     return;
   }
   std::cout << fmt::format("{} fit to {} points ({})\n", mat::to_string(r.model), d.strain.size(),
@@ -86,7 +88,9 @@ void install_fit(CLI::App& root) {
   auto* cmd =
       root.add_subcommand("fit", "Fit a hyperelastic law to nominal stress-strain data (see docs/fe.md)");
   auto o = std::make_shared<FitCliOptions>();
-  cmd->add_option("--csv", o->csv, "two columns: strain, stress [MPa] (compression magnitudes by default)");
+  cmd->add_option("--data", o->csv,
+                  "input CSV, two columns: strain, stress [MPa] (compression magnitudes by default)");
+  cmd->add_option("--csv", o->csv, "deprecated: use --data FILE.csv")->group("");
   cmd->add_option("--db", o->db, "measurement database: fit a recorded run's load/displacement instead");
   cmd->add_option("--run", o->run, "run id in --db")
       ->check(cli::whole_in(std::int64_t{1}, std::numeric_limits<std::int64_t>::max()));

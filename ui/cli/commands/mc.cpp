@@ -10,6 +10,8 @@
 
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
+#include "output_naming.hpp"
+#include "progress.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/sim/mc/optics.hpp"
 #include "tocd/sim/mc/output.hpp"
@@ -28,7 +30,7 @@ struct McOptions {
   std::string mesh_prefix, slab, optics_file, source = "pencil", vtu;
   int slab_cells = 20;
   std::uint64_t photons = 100000, seed = 1;
-  int threads = 1, batches = 20;
+  int threads = 0, batches = 20;
   std::optional<double> ambient_n;
   bool json = false;
   tocd::sim::vtk::Format vtu_format = tocd::sim::vtk::Format::binary;
@@ -66,20 +68,32 @@ void run_mc(const McOptions& o) {
   mc::RunSettings s;
   s.photons = o.photons;
   s.seed = o.seed;
-  s.threads = o.threads;
+  s.threads = cli::resolve_threads(o.threads);
   s.batches = o.batches;
   s.ambient_n = o.ambient_n ? *o.ambient_n : (optics.ambient_n > 0.0 ? optics.ambient_n : 1.0);
   s.tally_per_tet = !o.vtu.empty();
   s.team = &tocd::sim::parallel::world();  // under mpirun the ranks share the photons
+  std::optional<cli::ProgressBar> bar;
+  if (s.team->rank() == 0) bar.emplace("mc", o.photons, "photons");
+  s.progress = [&bar](std::uint64_t done, std::uint64_t) {
+    if (bar) bar->update(done);
+  };
   const mc::Result r = mc::run(mesh, optics, source, s);
-  if (!o.vtu.empty() && s.team->rank() == 0) mc::write_fluence_vtu(mesh, r, o.vtu, o.vtu_format);
+  if (bar) {
+    bar->update(r.photons);
+    bar->finish();
+  }
+  if (!o.vtu.empty() && s.team->rank() == 0) {
+    mc::write_fluence_vtu(mesh, r, o.vtu, o.vtu_format);
+    cli::announce_file("fluence", o.vtu);
+  }
   if (o.json) {
     nlohmann::json j = mc::to_json(r);
     j["source"] = mc::describe(source);
     j["tets"] = mesh.tets.size();
     j["ambient_n"] = s.ambient_n;
     if (!o.vtu.empty()) j["vtu"] = o.vtu;
-    std::cout << j.dump(2) << '\n';
+    cli::print_json(j);
   } else {
     print_text(r, mc::describe(source));
   }
@@ -104,8 +118,8 @@ void install_mc(CLI::App& root) {
   cmd->add_option("--seed", o->seed, "random seed")
       ->check(cli::whole_in(std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max()))
       ->capture_default_str();
-  cmd->add_option("--threads", o->threads, "threads (results do not depend on it)")
-      ->check(cli::whole_in(std::int64_t{1}, std::int64_t{cli::kMaxThreads}))
+  cmd->add_option("--threads", o->threads, "threads (0 = all cores; results do not depend on it)")
+      ->check(cli::whole_in(std::int64_t{0}, std::int64_t{cli::kMaxThreads}))
       ->capture_default_str();
   cmd->add_option("--batches", o->batches, "batches for standard errors")
       ->check(cli::whole_in(std::int64_t{2}, std::int64_t{1000000}))

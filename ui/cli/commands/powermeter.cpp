@@ -10,6 +10,7 @@
 
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
+#include "output_naming.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/devices/power_meter_drivers.hpp"
 
@@ -37,7 +38,7 @@ void list_usb(bool json) {
                                 {"address", d.address},
                                 {"serial", d.serial},
                                 {"note", d.note}});
-    std::cout << out.dump(2) << '\n';
+    tocd::cli::print_json(out);
     return;
   }
   if (!scan.problem.empty()) {
@@ -108,7 +109,7 @@ void read_once(const ReadOptions& o) {
                           {"firmware", id.firmware}, {"sensor", sensor},  {"over_range", r.over_range},
                           {"t_ns", r.t_ns}};
     out["power_W"] = r.over_range ? nlohmann::json(nullptr) : nlohmann::json(r.power_W);
-    std::cout << out.dump(2) << '\n';
+    tocd::cli::print_json(out);
   } else {
     std::cout << fmt::format("{} {} (serial {}, firmware {}), sensor {}\n", id.vendor, id.model, id.serial,
                              id.firmware, sensor);

@@ -11,7 +11,9 @@
 
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
+#include "output_naming.hpp"
 #include "predict_series.hpp"
+#include "progress.hpp"
 #include "tocd/acquisition/sim_step_predictor.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/sim/parallel/team.hpp"
@@ -70,10 +72,6 @@ void print_prediction(const st::PredictionRequest& r, const st::Prediction& p) {
                              p.fe_summary["compressed_volume_mm3"].get<double>());
   std::cout << fmt::format("  {} tets; FE {:.1f} s, mesh {:.1f} s, Monte Carlo {:.1f} s\n", p.tets,
                            p.fe_seconds, p.mesh_seconds, p.mc_seconds);
-  if (!p.fluence.is_null())
-    std::cout << fmt::format("  fluence: {}, {}, {}\n", p.fluence["vtu"].get<std::string>(),
-                             p.fluence["horizontal_csv"].get<std::string>(),
-                             p.fluence["vertical_csv"].get<std::string>());
 }
 
 st::ConfigDocument read_config(const PredictOptions& o) {
@@ -107,7 +105,7 @@ void run_relative(const st::ConfigDocument& d, const st::Prediction& p, const st
                         {"config", {{"quantity", d.quantity}, {"step", p.config}, {"baseline", b.config}}},
                         {"step", prediction_json(p)},
                         {"baseline", prediction_json(b)}};
-    std::cout << j.dump(2) << '\n';
+    cli::print_json(j);
     return;
   }
   std::cout << fmt::format("T = {}: {:.6f} +- {:.6f}\nstep: ",
@@ -135,13 +133,24 @@ void run_predict(PredictOptions o) {
     st::apply_optics(o.compressed, r, label);
   }
   st::Predictor predictor(1, &tocd::sim::parallel::world());  // under mpirun the ranks share the photons
-  const st::Prediction p = predictor.predict(r);
+  // The predictor reports no progress of its own: FE, meshing and Monte Carlo show as elapsed time.
+  auto predict = [&](const st::PredictionRequest& q, const char* what) {
+    const bool root = tocd::sim::parallel::world().rank() == 0;
+    std::optional<cli::ElapsedTicker> ticker;
+    if (root) ticker.emplace(fmt::format("predict: {} (FE + mesh + {} photons)", what, q.photons));
+    return predictor.predict(q);
+  };
+  const st::Prediction p = predict(r, "step");
+  if (!p.fluence.is_null())
+    for (const char* k : {"vtu", "horizontal_csv", "vertical_csv"})
+      if (p.fluence.contains(k))
+        cli::announce_file(fmt::format("fluence {}", k), p.fluence[k].get<std::string>());
   if (document && document->baseline) {
-    run_relative(*document, p, predictor.predict(*document->baseline), o.json);
+    run_relative(*document, p, predict(*document->baseline, "baseline"), o.json);
     return;
   }
   if (o.json) {
-    std::cout << prediction_json(p).dump(2) << '\n';
+    cli::print_json(prediction_json(p));
     return;
   }
   print_prediction(r, p);

@@ -9,16 +9,19 @@
 #include <string>
 
 #include <fmt/format.h>
-#include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
+#include "output_naming.hpp"
+#include "progress.hpp"
 #include "run_progress.hpp"
 #include "tocd/acquisition/compare_table.hpp"
 #include "tocd/acquisition/engine.hpp"
 #include "tocd/acquisition/lab_session.hpp"
 #include "tocd/acquisition/protocol.hpp"
 #include "tocd/acquisition/sim_step_predictor.hpp"
+#include "tocd/core/log.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/devices/lab.hpp"
@@ -32,7 +35,7 @@ namespace {
 struct RunOptions {
   std::string protocol, lab, db, operator_name;
   std::optional<std::int64_t> resume;
-  bool simulated = false, no_predict = false;
+  bool simulated = false, no_predict = false, json = false;
   double clock_factor = 1.0;
   std::uint64_t photons = 100000, seed = 1;
 };
@@ -70,6 +73,7 @@ void run_protocol(const RunOptions& o) {
   // Before any thread starts (simulated lab servers, drivers, engine): every thread then
   // inherits the blocked SIGINT/SIGTERM and only the watcher sees them.
   tocd::cli::AbortOnSignal signals(std::cerr);
+  const cli::PhaseTimer phases(*tocd::logger("cli"), "run");
   tocd::db::Database db(o.db);
   const acq::Protocol protocol =
       fresh ? *fresh
@@ -92,7 +96,7 @@ void run_protocol(const RunOptions& o) {
   eo.operator_name = o.operator_name;
   eo.lab_config_text = lab_text;
   eo.unattended = true;  // nobody can resume a pause from here: a fault ends the run, resumable
-  tocd::cli::TerminalProgress progress(std::cout, ::isatty(STDOUT_FILENO) != 0);
+  tocd::cli::TerminalProgress progress;
   acq::EngineState final_state;
   std::int64_t run_id = 0;
   std::string error;
@@ -104,16 +108,31 @@ void run_protocol(const RunOptions& o) {
       session.predict->seed = o.seed;
     }
     acq::LabSession lab_session(db, *lab_cfg, session, &progress);
+    phases.mark("instruments opened");
     acq::Engine& engine = lab_session.engine();
     const tocd::cli::AbortOnSignal::Attached attached(signals, engine);
     run_id = o.resume ? engine.resume(*o.resume) : engine.start(protocol);
-    std::cout << fmt::format("run {} ({} steps) recording into {}", run_id, protocol.steps.size(), o.db)
-              << std::endl;
+    if (!cli::progress_quiet())
+      std::cerr << fmt::format("run {} ({} steps) recording into {}", run_id, protocol.steps.size(), o.db)
+                << std::endl;
+    phases.mark("run started");
     final_state = engine.wait();
     error = engine.error();
     stats = engine.stats();
+    phases.mark("run ended");
   }
-  std::cout << '\n' << acq::format_compare_table(acq::compare_table(tocd::db::Reader(o.db), run_id));
+  // The table (or with --json the run summary) on stdout; how the run ended on stderr.
+  const acq::CompareTable table = acq::compare_table(tocd::db::Reader(o.db), run_id);
+  if (o.json) {
+    cli::print_json({{"run_id", run_id},
+                     {"state", acq::to_string(final_state)},
+                     {"error", error},
+                     {"samples_lost", stats.samples_dropped + stats.writer.failed_samples},
+                     {"files", {{"database", o.db}}},
+                     {"compare", acq::to_json(table)}});
+  } else {
+    std::cout << acq::format_compare_table(table);
+  }
   const std::string again = fmt::format("tocdlab run --resume {} --db {} {}", run_id, o.db,
                                         o.simulated ? std::string("--simulated") : "--lab " + o.lab);
   // Exit status (docs/acquisition.md): 0 only when the run completed or the operator aborted
@@ -128,10 +147,10 @@ void run_protocol(const RunOptions& o) {
                       stats.writer.last_error.empty() ? "" : ": " + stats.writer.last_error);
   switch (final_state) {
     case acq::EngineState::completed:
-      std::cout << fmt::format("run {} completed\n", run_id);
+      std::cerr << fmt::format("run {} completed\n", run_id);
       break;
     case acq::EngineState::aborted:
-      std::cout << fmt::format("run {} aborted; {}. Continue it with: {}\n", run_id,
+      std::cerr << fmt::format("run {} aborted; {}. Continue it with: {}\n", run_id,
                                lost == 0 ? "all data kept" : "data kept as far as stored", again);
       break;
     default:
@@ -163,6 +182,9 @@ void install_run(CLI::App& root) {
       ->check(cli::whole_in(std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max()))
       ->capture_default_str();
   cmd->add_flag("--no-predict", o->no_predict, "record only; no simulator prediction per step");
+  cmd->add_flag(
+      "--json", o->json,
+      "print the run summary (per-step measured vs. predicted, files written) as one JSON document");
   cmd->callback([o] { run_protocol(*o); });
 }
 

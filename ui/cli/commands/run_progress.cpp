@@ -1,7 +1,9 @@
 #include "run_progress.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <iostream>
 #include <mutex>
 #include <thread>
 
@@ -10,33 +12,32 @@
 
 namespace tocd::cli {
 
-namespace {
-std::string clock_text(double s) {
-  if (!std::isfinite(s) || s < 0) return "-";
-  const auto t = static_cast<long>(s + 0.5);
-  return t >= 3600 ? fmt::format("{}:{:02}:{:02}", t / 3600, t / 60 % 60, t % 60)
-                   : fmt::format("{}:{:02}", t / 60, t % 60);
-}
-}  // namespace
+TerminalProgress::TerminalProgress() : TerminalProgress(std::cerr, stderr_progress_mode()) {}
 
 void TerminalProgress::line(const std::string& text) {
+  if (off_) return;
   if (live_ && status_shown_) out_ << "\r\33[K";
   status_shown_ = false;
   out_ << text << '\n' << std::flush;
 }
 
 void TerminalProgress::on_progress(const acquisition::Progress& p) {
+  if (off_) return;
   std::lock_guard lock(mu_);
   const auto now = std::chrono::steady_clock::now();
-  if (!live_ && now - last_status_ < std::chrono::seconds(10)) return;
+  if (!live_ && now - last_status_ < std::chrono::seconds(5)) return;
   last_status_ = now;
   std::string readings;
   if (std::isfinite(p.displacement_mm))
     readings += fmt::format("  d {:7.4f} mm  F {:8.4f} N", p.displacement_mm, p.load_N);
   if (std::isfinite(p.pressure_kPa)) readings += fmt::format("  p {:6.2f} kPa", p.pressure_kPa);
   if (std::isfinite(p.power_W)) readings += fmt::format("  P {:.4g} W  T {:.4f}", p.power_W, p.transmission);
+  constexpr int kWidth = 14;
+  const int filled = p.step_count > 0 ? std::clamp(kWidth * p.step_index / p.step_count, 0, kWidth) : 0;
   const std::string text =
-      fmt::format("step {}/{} {:<10}{}  elapsed {}  ETA {}", p.step_index + 1, p.step_count,
+      fmt::format("step {}/{} [{}{}] {:<10}{}  elapsed {}  ETA {}", p.step_index + 1, p.step_count,
+                  std::string(static_cast<std::size_t>(filled), '#'),
+                  std::string(static_cast<std::size_t>(kWidth - filled), '.'),
                   acquisition::to_string(p.state), readings, clock_text(p.elapsed_s), clock_text(p.eta_s));
   if (live_) {
     out_ << "\r\33[K" << text << std::flush;

@@ -1,21 +1,26 @@
 #pragma once
 
-// Terminal view of a running engine (`tocdlab run`, `tocdlab demo`): a live status line with
-// the current step, readings and ETA, one line per recorded step, prediction and notable event.
+// Terminal view of a running engine (`tocdlab run`, `tocdlab demo`) on stderr: a live status
+// line with a bar over the steps, the readings and the ETA, one line per recorded step,
+// prediction and notable event. Steps are numbered from 1, as everywhere in tocdlab.
 
 #include <chrono>
 #include <mutex>
 #include <ostream>
 
+#include "progress.hpp"
 #include "tocd/acquisition/engine.hpp"
 
 namespace tocd::cli {
 
 class TerminalProgress : public acquisition::EngineObserver {
  public:
-  /// `live` rewrites one status line in place (a terminal); otherwise a status line is
-  /// printed every 10 s.
-  TerminalProgress(std::ostream& out, bool live) : out_(out), live_(live) {}
+  /// bar: one status line rewritten in place (a terminal); lines: a status line every 5 s;
+  /// off: nothing at all (--quiet).
+  TerminalProgress(std::ostream& out, ProgressMode mode)
+      : out_(out), live_(mode == ProgressMode::bar), off_(mode == ProgressMode::off) {}
+  /// On stderr, in stderr_progress_mode().
+  TerminalProgress();
 
   void on_progress(const acquisition::Progress& p) override;
   void on_step_recorded(const acquisition::StepResult& s) override;
@@ -25,7 +30,7 @@ class TerminalProgress : public acquisition::EngineObserver {
  private:
   void line(const std::string& text);  // caller holds mu_
   std::ostream& out_;
-  bool live_;
+  bool live_, off_;
   std::mutex mu_;
   bool status_shown_ = false;
   std::chrono::steady_clock::time_point last_status_{};

@@ -15,6 +15,7 @@
 
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
+#include "output_naming.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/devices/lab.hpp"
 #include "tocd/mocks/simulated_lab.hpp"
@@ -96,7 +97,7 @@ void run_simlab(const SimlabOptions& o) {
     std::ofstream out(o.write_config);
     out << tocd::devices::to_toml(cfg);
     if (!out) throw tocd::ConfigError("cannot write " + o.write_config);
-    std::cout << "lab config written to " << o.write_config << '\n';
+    tocd::cli::announce_file("lab config", o.write_config);
   } else {
     std::cout << "\nlab config:\n" << tocd::devices::to_toml(cfg);
   }

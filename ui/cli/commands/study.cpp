@@ -1,10 +1,12 @@
 // `tocdlab study paper|sweep`: the published parametric study and sweeps (docs/study.md).
 #include "tocd/sim/study/study.hpp"
 
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,6 +14,8 @@
 
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
+#include "output_naming.hpp"
+#include "progress.hpp"
 #include "tocd/core/atomic_file.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/sim/parallel/team.hpp"
@@ -25,27 +29,53 @@ namespace st = tocd::sim::study;
 
 struct StudyOptions {
   st::StudySettings settings;
-  std::string json_path, csv_path;
+  std::string output_path;
+  bool json = false;
   double thickness_mm = 2.5;
   std::vector<double> displacements, thicknesses;
   std::vector<std::string> optics;
   bool no_baseline = false;
 };
 
+// Rows appear on stderr as each simulation finishes (progress); the whole table goes to stdout
+// at the end, as text or with --json as one JSON document, and to -o FILE as CSV or JSON.
 void run(const StudyOptions& o, const std::vector<st::StudyCase>& cases, int ref_a, int ref_b) {
-  std::cout << fmt::format("{} simulations, {} photons each, mesh '{}', seed {}\n", cases.size(),
-                           o.settings.photons, o.settings.mesh_preset, o.settings.seed);
-  std::cout << st::table_header(ref_a, ref_b) << std::flush;
-  // Under mpirun the ranks share the simulations; rank 0 alone prints and writes files.
   auto& team = tocd::sim::parallel::world();
+  std::optional<cli::ProgressBar> bar;
+  if (team.rank() == 0) {
+    bar.emplace("study", cases.size(), "simulations");
+    bar->note(fmt::format("{} simulations, {} photons each, mesh '{}', seed {}", cases.size(),
+                          o.settings.photons, o.settings.mesh_preset, o.settings.seed));
+    bar->note(st::table_header(ref_a, ref_b));
+  }
+  // Under mpirun the ranks share the simulations; rank 0 alone prints and writes files.
   st::Predictor predictor(1, &team);
+  std::uint64_t rows_done = 0;
   const st::StudyTable table = st::run_study(
       predictor, cases, o.settings, ref_a, ref_b,
-      [](const st::StudyRow& r) { std::cout << st::format_row(r) << std::flush; }, team);
+      [&](const st::StudyRow& r) {
+        if (!bar) return;
+        bar->note(st::format_row(r));
+        bar->update(++rows_done);
+      },
+      team);
   if (team.rank() != 0) return;
-  std::cout << fmt::format("total {:.1f} s\n", table.seconds);
-  if (!o.json_path.empty()) tocd::write_file_atomically(o.json_path, st::to_json(table).dump(2) + "\n");
-  if (!o.csv_path.empty()) tocd::write_file_atomically(o.csv_path, st::to_csv(table));
+  bar->update(cases.size());
+  bar->finish();
+  if (!o.output_path.empty()) {
+    const bool as_json = std::filesystem::path(o.output_path).extension() == ".json";
+    tocd::write_file_atomically(o.output_path, as_json
+                                                   ? cli::to_naming_table(st::to_json(table)).dump(2) + "\n"
+                                                   : cli::to_naming_table_csv(st::to_csv(table)));
+    cli::announce_file(as_json ? "table (JSON)" : "table (CSV)", o.output_path);
+  }
+  if (o.json) {
+    cli::print_json(st::to_json(table));
+    return;
+  }
+  std::cout << st::table_header(ref_a, ref_b);
+  for (const auto& r : table.rows) std::cout << st::format_row(r);
+  std::cout << fmt::format("total {:.1f} s\n", table.seconds) << std::flush;
 }
 
 void add_common(CLI::App* cmd, StudyOptions& o) {
@@ -72,8 +102,11 @@ void add_common(CLI::App* cmd, StudyOptions& o) {
          "under MPI: simulations with at least this many photons share their batches among the ranks")
       ->check(cli::whole_in(std::uint64_t{1}, std::numeric_limits<std::uint64_t>::max()))
       ->capture_default_str();
-  cmd->add_option("--json", o.json_path, "write every number of the table (and each run's config) as JSON");
-  cmd->add_option("--csv", o.csv_path, "write the table as CSV");
+  cmd->add_flag("--json", o.json,
+                "print every number of the table (and each run's config) as JSON on stdout");
+  cmd->add_option("-o,--output", o.output_path,
+                  "also write the table to FILE: JSON if it ends in .json, else CSV");
+  cmd->add_option("--csv", o.output_path, "deprecated: use -o FILE.csv")->group("");
   cmd->add_option("--fluence-dir", o.settings.fluence_dir,
                   "write per-tet fluence (.vtu) and horizontal/vertical slices (.csv) per simulation, and "
                   "their ParaView series fluence.pvd, here");

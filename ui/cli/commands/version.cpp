@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
+#include "output_naming.hpp"
 
 namespace {
 
@@ -19,7 +20,7 @@ void install_version(CLI::App& root) {
     nlohmann::json out = {
         {"tocdlab", std::string(tocd::version())}, {"compiler", __VERSION__}, {"cxx_standard", __cplusplus}};
     if (*json) {
-      std::cout << out.dump(2) << '\n';
+      tocd::cli::print_json(out);
     } else {
       std::cout << "tocdlab " << tocd::version() << " (" << __VERSION__ << ")\n";
     }

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <string>
@@ -26,16 +27,22 @@ struct SimTissueSpec {
   int threads = 0;  ///< Monte Carlo threads (0 = all cores)
   /// Called with a line of text per stage (FE, each Monte Carlo point), from the calling thread.
   std::function<void(const std::string&)> progress;
+  /// Where prepared tables are cached (sim_tissue_cache.hpp); empty: always prepare afresh.
+  std::filesystem::path cache_dir;
 };
 
 /// The tables behind the tissue (displacement 0 first).
 struct SimTissueTable {
   std::vector<double> displacement_mm, load_N, transmission, transmission_stderr;
-  double seconds = 0;
+  double seconds = 0;       ///< time this call took (reading the cache or preparing)
+  bool from_cache = false;  ///< read from spec.cache_dir rather than computed
+  std::string cache_file;   ///< the cache entry read or written ("" without a cache)
 };
 
 /// Runs the FE and the Monte Carlo points (blocking; seconds to minutes depending on photons)
-/// and returns the tabulated tissue. Transmission is relative to the glass-only geometry, as
+/// and returns the tabulated tissue; with spec.cache_dir, a matching cache entry replaces the
+/// computation and a fresh computation is stored (a failed store is reported through
+/// spec.progress, not thrown). Transmission is relative to the glass-only geometry, as
 /// the power meter sees it against a glass-only baseline. Throws tocd::Error subclasses when
 /// the simulator fails (bad spec, FE not converging at a requested displacement, meshing).
 std::shared_ptr<TissueModel> make_simulated_tissue(const SimTissueSpec& spec,

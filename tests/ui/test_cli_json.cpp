@@ -1,0 +1,156 @@
+// Every subcommand with --json writes exactly one valid JSON document on stdout (progress,
+// messages and file names go to stderr), in the naming table of docs/cli.md: 1-based `step`,
+// standard errors as NAME_se. Small inputs keep each case to seconds.
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "cli_runner.hpp"
+
+namespace fs = std::filesystem;
+using tocd::test::run_cli;
+
+namespace {
+
+constexpr const char* kOptics = R"(ambient_n = 1.0
+[region.1]
+mu_a = 0.1
+mu_s = 10.0
+g = 0.9
+n = 1.4
+)";
+
+// Two short compression steps on the simulated lab.
+constexpr const char* kProtocol = R"(name = "two steps"
+[sample]
+tissue = "skin"
+thickness_mm = 2.0
+[baseline]
+power_W = 1.0e-3
+[motion]
+contact_position_mm = 1.0
+approach_speed_mm_per_s = 1.0
+[steps]
+displacements_mm = [0.25, 0.5]
+hold_s = 0.5
+record_s = 1.0
+[settle]
+max_rate = 0.05
+window_s = 0.5
+max_wait_s = 5
+[rates]
+tester_Hz = 200
+)";
+
+class CliJson : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    std::ofstream(dir_ / "optics.toml") << kOptics;
+    std::ofstream(dir_ / "protocol.toml") << kProtocol;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Runs tocdlab and returns its stdout parsed as one JSON document; the test fails when the
+  // exit status is not 0 or stdout holds anything besides that document.
+  nlohmann::json json_of(const std::string& args) {
+    const auto r = run_cli(TOCDLAB_EXE, args, dir_);
+    EXPECT_EQ(r.status, 0) << "tocdlab " << args << "\nstderr: " << r.err;
+    try {
+      return nlohmann::json::parse(r.out);  // throws on trailing text: exactly one document
+    } catch (const nlohmann::json::exception& e) {
+      ADD_FAILURE() << "tocdlab " << args << ": stdout is not one JSON document (" << e.what() << "):\n"
+                    << r.out;
+      return nullptr;
+    }
+  }
+
+  fs::path dir_ = fs::temp_directory_path() /
+                  fmt::format("tocd_cli_json_{}_{}", ::getpid(),
+                              ::testing::UnitTest::GetInstance()->current_test_info()->name());
+};
+
+}  // namespace
+
+TEST_F(CliJson, Version) {
+  const auto j = json_of("version --json");
+  EXPECT_TRUE(j.contains("tocdlab"));
+}
+
+TEST_F(CliJson, MonteCarloEstimatesCarryTheSeSuffix) {
+  const auto j = json_of("mc --slab 10x10x1 --slab-cells 4 --optics optics.toml --photons 2000 --json");
+  ASSERT_TRUE(j.is_object());
+  ASSERT_TRUE(j.contains("transmittance"));
+  EXPECT_TRUE(j["transmittance"].is_number());
+  EXPECT_TRUE(j["transmittance_se"].is_number());
+  EXPECT_FALSE(j.dump().find("\"se\"") != std::string::npos) << "an estimate left as {mean, se}";
+}
+
+TEST_F(CliJson, FiniteElement) {
+  const auto j = json_of("fe --displacement 0.2 --refine 0.5 --json");
+  ASSERT_TRUE(j.contains("steps"));
+  EXPECT_EQ(j["steps"].size(), 1u);
+}
+
+TEST_F(CliJson, FitReadsItsDataFromDataCsv) {
+  // Neo-Hookean uniaxial compression, mu = 0.1 MPa: P = mu (lambda - lambda^-2), lambda = 1 - e.
+  std::ofstream csv(dir_ / "ss.csv");
+  csv << "strain,stress_MPa\n";
+  for (double e = 0.02; e < 0.41; e += 0.02) {
+    const double l = 1 - e;
+    csv << e << ',' << 0.1 * (1 / (l * l) - l) << '\n';
+  }
+  csv.close();
+  const auto j = json_of("fit --data ss.csv --model neo-hookean --json");
+  ASSERT_TRUE(j.contains("parameters"));
+  EXPECT_GT(j["r_squared"].get<double>(), 0.99);
+}
+
+TEST_F(CliJson, PowermeterList) {
+  const auto j = json_of("powermeter list-usb --json");
+  EXPECT_TRUE(j.contains("devices"));
+}
+
+TEST_F(CliJson, StudySweepIsAFlagAndWritesOutputFile) {
+  const auto j =
+      json_of("study sweep --displacements 0.5 --no-baseline --photons 500 --mesh fast --json -o table.csv");
+  ASSERT_TRUE(j.is_object());
+  EXPECT_TRUE(fs::exists(dir_ / "table.csv"));
+  const std::string csv = tocd::test::slurp(dir_ / "table.csv");
+  EXPECT_EQ(csv.find('\r'), std::string::npos);
+  EXPECT_EQ(csv.find("_stderr"), std::string::npos);
+}
+
+TEST_F(CliJson, PredictStep) {
+  const auto j = json_of("predict --displacement 0.5 --photons 500 --mesh fast --json");
+  EXPECT_TRUE(j["T"].is_number());
+  EXPECT_TRUE(j["T_se"].is_number());
+}
+
+TEST_F(CliJson, RunAndCompareNumberStepsFromOne) {
+  const auto run = json_of("run protocol.toml --simulated --no-predict --clock-factor 20 --db lab.db --json");
+  ASSERT_TRUE(run.contains("compare"));
+  EXPECT_EQ(run["state"], "completed");
+  ASSERT_EQ(run["compare"]["steps"].size(), 2u);
+  EXPECT_EQ(run["compare"]["steps"][0]["step"], 1);
+  EXPECT_EQ(run["compare"]["steps"][1]["step"], 2);
+  EXPECT_TRUE(run["compare"]["steps"][0].contains("predicted_T_se"));
+  const auto cmp = json_of("compare --db lab.db --run 1 --json");
+  EXPECT_EQ(cmp["steps"][0]["step"], 1);
+}
+
+TEST_F(CliJson, DemoPrintsItsRunSummary) {
+  const auto j = json_of(
+      "demo --protocol protocol.toml --photons 500 --sample-photons 500 --clock-factor 20 --cache-dir cache "
+      "--db demo.db -o demo.csv --json");
+  ASSERT_TRUE(j.contains("files"));
+  EXPECT_EQ(j["files"]["csv"], "demo.csv");
+  EXPECT_EQ(j["compare"]["steps"].size(), 2u);
+  EXPECT_TRUE(j["compare"]["steps"][1]["predicted_T"].is_number());
+  EXPECT_TRUE(fs::exists(dir_ / "demo.csv"));
+}
