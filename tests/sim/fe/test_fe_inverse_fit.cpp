@@ -2,6 +2,7 @@
 // the FE in the loop. The expectations are the known truth the data were made from, never
 // what the fit printed.
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -57,6 +58,11 @@ TEST(InverseFit, RecoversAKnownOneTermLawFromNoisyFeData) {
   // The truth inside the reported intervals, and the intervals informative (narrower than
   // 25 % of the value: a fit that learnt nothing would fail here).
   const double want[] = {truth.mu[0], truth.alpha[0]};
+  for (int k = 0; k < 2; ++k)
+    std::printf("%s: truth %.6g, fitted %.6g, 99 %% interval [%.6g, %.6g]\n", r.names[k].c_str(), want[k],
+                r.values[k], r.interval_low[k], r.interval_high[k]);
+  std::printf("%d iterations, %d FE solves; residual variance %.3g\n", r.iterations, r.evaluations,
+              r.residual_variance);
   for (int k = 0; k < 2; ++k) {
     EXPECT_GE(want[k], r.interval_low[k]) << r.names[k];
     EXPECT_LE(want[k], r.interval_high[k]) << r.names[k];
