@@ -51,6 +51,9 @@ void FeModel::validate() const {
   positive("pin_radius_mm", pin_radius_mm);
   positive("mesh_refinement", mesh_refinement);
   positive("depth_mm", depth_mm);
+  if (!(compressed_log_strain < 0))
+    throw FeError(
+        fmt::format("FE model: compressed_log_strain = {} must be negative", compressed_log_strain));
   if (mesh_refinement > 16)
     throw FeError(fmt::format("FE model: mesh_refinement = {} is above 16", mesh_refinement));
   if (pin_radius_mm >= outer_radius_mm)

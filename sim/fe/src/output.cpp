@@ -82,7 +82,7 @@ void write_vtu(const FeStepResult& s, const std::filesystem::path& path, vtk::Fo
   g.point_data.push_back({"displacement", 3, std::move(displacement)});
   g.active_point_vectors = "displacement";
   std::vector<std::uint8_t> compressed;
-  for (const double e : s.element_min_log_strain) compressed.push_back(e <= -0.5 ? 1 : 0);
+  for (const double e : s.element_min_log_strain) compressed.push_back(e <= s.compressed_log_strain ? 1 : 0);
   g.cell_data.push_back({"min_log_strain", 1, s.element_min_log_strain});
   g.cell_data.push_back({"J", 1, s.element_J});
   g.cell_data.push_back({"compressed", 1, std::move(compressed)});

@@ -26,6 +26,7 @@ FeStepResult make_step_result(const FeModel& model, const tocd::sim::material::H
                               double displacement_mm) {
   FeStepResult s;
   s.displacement_mm = displacement_mm;
+  s.compressed_log_strain = model.compressed_log_strain;
   const bool axi = model.kinematics == Kinematics::axisymmetric;
   const double out_of_plane = axi ? 2 * std::numbers::pi : 2 * model.depth_mm;
   s.force_N = ev.pin_force * out_of_plane;
@@ -48,7 +49,7 @@ FeStepResult make_step_result(const FeModel& model, const tocd::sim::material::H
     element_strain(assembly.references()[e], x, model.kinematics, law, es);
     s.element_min_log_strain.push_back(es.min_log_strain);
     s.element_J.push_back(es.J);
-    flagged[e] = es.min_log_strain <= -0.5;
+    flagged[e] = es.min_log_strain <= model.compressed_log_strain;
   }
   for (const auto& loop : region_loops(ref, flagged)) {
     std::vector<Point2> poly;

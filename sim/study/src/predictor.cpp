@@ -49,10 +49,13 @@ struct PreparedEntry {
 fe::FeModel fe_model(const PredictionRequest& r) {
   fe::FeModel m = fe::FeModel::published_default();
   m.thickness_mm = r.thickness_mm;
-  m.outer_radius_mm = 0.5 * r.slide_size_mm;
+  m.outer_radius_mm = r.fe_outer_radius_mm > 0 ? r.fe_outer_radius_mm : 0.5 * r.slide_size_mm;
   m.pin_radius_mm = r.pin_radius_mm;
   m.material = r.material;
   m.mesh_refinement = r.fe_refinement;
+  m.kinematics = r.fe_kinematics;
+  m.bottom = r.fe_bottom;
+  m.compressed_log_strain = r.compressed_log_strain;
   return m;
 }
 
@@ -63,7 +66,12 @@ std::string fe_key(const PredictionRequest& r) {
                             {"pin", r.pin_radius_mm},
                             {"material", material_to_json(r.material)},
                             {"refine", r.fe_refinement}};
-  return j.dump();
+  nlohmann::json k = j;
+  if (r.fe_kinematics != fe::Kinematics::axisymmetric) k["kinematics"] = fe::to_string(r.fe_kinematics);
+  if (r.fe_bottom != fe::Bottom::bonded) k["bottom"] = fe::to_string(r.fe_bottom);
+  if (r.compressed_log_strain != -0.5) k["threshold"] = r.compressed_log_strain;
+  if (r.fe_outer_radius_mm > 0) k["R"] = r.fe_outer_radius_mm;
+  return k.dump();
 }
 
 bool needs_fe(const PredictionRequest& r) {
@@ -234,6 +242,7 @@ Predictor::Staged Predictor::stage(const PredictionRequest& r) {
 
   st.optics = (!r.baseline && r.optics_model == "graded") ? graded_optics(r.graded)
                                                           : threshold_optics(r.compressed_optics);
+  if (r.slide_n > 0) st.optics.regions[geometry::Region::slide].n = r.slide_n;
   st.source.kind = mc::Source::Kind::marker;
   st.source.marker = geometry::Marker::pin_top;
   mc::RunSettings& s = st.settings;

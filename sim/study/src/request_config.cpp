@@ -40,6 +40,13 @@ void validate(const PredictionRequest& r) {
   require(r.slide_size_mm > 2.0 * r.pin_radius_mm && r.slide_thickness_mm > 0.0,
           fmt::format("slide {} x {} mm must be wider than the pin", r.slide_size_mm, r.slide_thickness_mm));
   require(r.fe_refinement > 0.0, fmt::format("fe_refinement must be > 0, got {}", r.fe_refinement));
+  require(std::isfinite(r.compressed_log_strain) && r.compressed_log_strain < 0.0,
+          fmt::format("compressed_log_strain must be < 0, got {}", r.compressed_log_strain));
+  require(r.fe_outer_radius_mm == 0.0 || r.fe_outer_radius_mm > r.pin_radius_mm,
+          fmt::format("fe_outer_radius_mm {} must be 0 (half the slide) or above the pin radius",
+                      r.fe_outer_radius_mm));
+  require(r.slide_n == 0.0 || (r.slide_n >= 1.0 && r.slide_n < 3.0),
+          fmt::format("slide_n {} must be 0 (glass) or in [1, 3)", r.slide_n));
   mc::Optics one;
   one.regions[geometry::Region::compressed] = r.compressed_optics;
   mc::validate(one, "compressed_optics");
@@ -69,6 +76,11 @@ nlohmann::json to_config(const PredictionRequest& r) {
   j["slide_size_mm"] = r.slide_size_mm;
   j["slide_thickness_mm"] = r.slide_thickness_mm;
   j["fe_refinement"] = r.fe_refinement;
+  if (r.fe_kinematics != fe::Kinematics::axisymmetric) j["fe_kinematics"] = fe::to_string(r.fe_kinematics);
+  if (r.fe_bottom != fe::Bottom::bonded) j["fe_bottom"] = fe::to_string(r.fe_bottom);
+  if (r.compressed_log_strain != -0.5) j["compressed_log_strain"] = r.compressed_log_strain;
+  if (r.fe_outer_radius_mm > 0) j["fe_outer_radius_mm"] = r.fe_outer_radius_mm;
+  if (r.slide_n > 0) j["slide_n"] = r.slide_n;
   return j;
 }
 
@@ -98,6 +110,12 @@ PredictionRequest request_from_config(const nlohmann::json& j) {
     num("slide_size_mm", r.slide_size_mm);
     num("slide_thickness_mm", r.slide_thickness_mm);
     num("fe_refinement", r.fe_refinement);
+    if (j.contains("fe_kinematics"))
+      r.fe_kinematics = fe::parse_kinematics(j.at("fe_kinematics").get<std::string>());
+    if (j.contains("fe_bottom")) r.fe_bottom = fe::parse_bottom(j.at("fe_bottom").get<std::string>());
+    num("compressed_log_strain", r.compressed_log_strain);
+    num("fe_outer_radius_mm", r.fe_outer_radius_mm);
+    num("slide_n", r.slide_n);
   } catch (const nlohmann::json::exception& e) {
     throw tocd::ConfigError(fmt::format("prediction config: {}", e.what()));
   }

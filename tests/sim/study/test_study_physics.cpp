@@ -48,16 +48,16 @@ double sigmas(const st::Prediction& a, const st::Prediction& b) {
   return (a.T - b.T) / std::hypot(a.T_stderr, b.T_stderr);
 }
 
-/// `max_side_loss`: the published runs stayed below 3.5 %. Light leaving the skin's and the
-/// air's sides stays below 5 % always; a compressed region with a raised index in contact
-/// with the slide sends light into the glass at angles the slide guides out of its edges,
-/// so the total may exceed 5 % there (docs/study.md).
-void expect_sane(const st::Prediction& p, const char* what, double max_side_loss = 0.05) {
+/// The published runs stayed below 3.5 % side loss. Light leaving the skin's and the air's
+/// sides stays below 5 % always. With `raised_index` (a compressed region of raised index on
+/// the slide) the total is not bounded: light the slide guides to its edges is physics, and
+/// is checked against expect_guided_fraction instead (docs/study.md).
+void expect_sane(const st::Prediction& p, const char* what, bool raised_index = false) {
   SCOPED_TRACE(what);
   EXPECT_GT(p.T, 0.0);
   EXPECT_GT(p.T_stderr, 0.0);
   EXPECT_LT(p.T_stderr, 0.05 * p.T);
-  EXPECT_LT(p.side_loss, max_side_loss);
+  if (!raised_index) EXPECT_LT(p.side_loss, 0.05);
   EXPECT_GE(p.side_loss_slide, 0.0);
   EXPECT_LE(p.side_loss_slide, p.side_loss);
   EXPECT_LT(p.side_loss - p.side_loss_slide, 0.05);  // through the skin's and air's sides
@@ -65,6 +65,47 @@ void expect_sane(const st::Prediction& p, const char* what, double max_side_loss
   EXPECT_NEAR(p.mc["exit_by_marker"]["1"]["mean"].get<double>(), p.T, 1e-12);
   EXPECT_LT(std::abs(p.mc["energy_balance_error"].get<double>()), 1e-9);
   EXPECT_EQ(p.mc["lost"]["mean"].get<double>(), 0.0);
+}
+
+/// Unpolarised Fresnel transmittance from index n1 into n2 at sin(theta_1) = u / n1.
+double fresnel_T(double n1, double n2, double u) {
+  const double s1 = u / n1, s2 = u / n2;
+  if (s2 >= 1) return 0.0;
+  const double c1 = std::sqrt(1 - s1 * s1), c2 = std::sqrt(1 - s2 * s2);
+  const double rs = (n1 * c1 - n2 * c2) / (n1 * c1 + n2 * c2), rp = (n2 * c1 - n1 * c2) / (n2 * c1 + n1 * c2);
+  return 1 - 0.5 * (rs * rs + rp * rp);
+}
+
+/// Independent estimate of the light the slide guides to its edges, per unit of transmitted
+/// light, for diffuse (Lambertian) light in a zone of index n_zone resting on the glass: with
+/// u = n sin(theta) conserved across the flat interfaces and u^2 uniform for a Lambertian
+/// flux, light with n_skin < u < n_glass enters the glass and is trapped by total reflection
+/// at its bottom (air) and top (native skin): weight int T_F d(u^2); light with u < 1 leaves
+/// through the bottom: int T_F(zone->glass) T_F(glass->air) d(u^2). Their ratio assumes every
+/// transmitted photon crossed the zone, so it bounds the simulated ratio from above; at 1.5 mm
+/// the zone sits under the pin, where most transmitted light passes, so the simulation should
+/// reach a good part of it (a quarter is asked).
+double guided_per_transmitted(double n_zone) {
+  const double n_glass = 1.458, n_skin = 1.38;
+  double guided = 0, out = 0;
+  const int steps = 20000;
+  for (int k = 0; k < steps; ++k) {  // midpoint rule in u^2
+    const double u = std::sqrt((k + 0.5) / steps) * n_zone;
+    if (u > n_skin && u < n_glass) guided += fresnel_T(n_zone, n_glass, u);
+    if (u < 1) out += fresnel_T(n_zone, n_glass, u) * fresnel_T(n_glass, 1.0, u);
+  }
+  return guided / out;
+}
+
+/// The light guided by the slide beyond what native skin sends there, as a fraction of T,
+/// against the estimate above.
+void expect_guided_fraction(const st::Prediction& raised, const st::Prediction& native, double n_zone) {
+  const double ratio = (raised.side_loss_slide - native.side_loss_slide) / raised.T;
+  const double estimate = guided_per_transmitted(n_zone);
+  std::printf("slide-guided extra / T: simulated %.4f, Lambertian bound %.4f (n_zone %.3f)\n", ratio,
+              estimate, n_zone);
+  EXPECT_LT(ratio, estimate);
+  EXPECT_GT(ratio, 0.25 * estimate);
 }
 
 }  // namespace
@@ -123,8 +164,10 @@ TEST(STUDY_SUITE, ClearingTheCompressedRegionRaisesTransmission) {
               native.side_loss, native.side_loss_slide, high_n.side_loss, high_n.side_loss_slide,
               all.side_loss, all.side_loss_slide);
   EXPECT_GT(extra_slide, 0.6 * extra);
-  expect_sane(high_n, "n110", 0.10);
-  expect_sane(all, "a60s60n110", 0.10);
+  expect_sane(high_n, "n110", true);
+  expect_sane(all, "a60s60n110", true);
+  expect_guided_fraction(high_n, native, 1.1 * 1.38);
+  expect_guided_fraction(all, native, 1.1 * 1.38);
 }
 
 TEST(STUDY_SUITE, ThinnerSkinAndGradedClearingTransmitMore) {
@@ -140,7 +183,8 @@ TEST(STUDY_SUITE, ThinnerSkinAndGradedClearingTransmitMore) {
   graded.optics_model = "graded";
   const auto p_graded = predictor.predict(graded);
   const auto p_native = predictor.predict(request(1.5));
-  expect_sane(p_graded, "graded", 0.12);
+  expect_sane(p_graded, "graded", true);
+  expect_guided_fraction(p_graded, p_native, 1.1 * 1.38);  // graded: up to the cleared 1.518
   EXPECT_GT(sigmas(p_graded, p_native), 3.0);
   const auto levels = p_graded.mesh_stats["graded_levels_tets"];
   ASSERT_EQ(levels.size(), 9u);

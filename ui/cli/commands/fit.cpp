@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
+#include "fit_fe.hpp"
 #include "numeric_options.hpp"
 #include "output_naming.hpp"
 #include "progress.hpp"
@@ -28,10 +29,28 @@ struct FitCliOptions {
   std::size_t bins = 40;
   double poisson = 0.49;
   bool signed_data = false, json = false;
+  std::string method = "uniaxial";
+  tocd::cli::FitFeOptions fe;  ///< --method fe
 };
 
 void run_fit(const FitCliOptions& o) {
   namespace mat = tocd::sim::material;
+  if (o.method == "fe") {
+    tocd::cli::FitFeOptions f = o.fe;
+    f.csv = o.csv;
+    f.db = o.db;
+    f.run = o.run;
+    f.model = o.model;
+    f.pin_radius = o.pin_radius;
+    f.poisson = o.poisson;
+    f.json = o.json;
+    if (o.csv.empty() && o.db.empty() && f.datasets.empty())
+      throw tocd::ConfigError("--method fe needs --db FILE --run ID, --csv FILE or --dataset MODE:FILE");
+    if (!o.csv.empty() && !o.db.empty()) throw tocd::ConfigError("give --csv or --db, not both");
+    tocd::cli::run_fit_fe(f);
+    return;
+  }
+  if (!o.fe.datasets.empty()) throw tocd::ConfigError("--dataset needs --method fe");
   if (o.csv.empty() == o.db.empty())
     throw tocd::ConfigError("give exactly one of --data FILE.csv or --db FILE --run ID");
   mat::StressStrainData d;
@@ -97,9 +116,9 @@ void install_fit(CLI::App& root) {
   cmd->add_option("--pin-radius", o->pin_radius, "pin radius [mm] for stress = load / (pi r^2) (--db)")
       ->check(cli::real_above(0.0, 100.0))
       ->capture_default_str();
-  cmd->add_option("--bins", o->bins, "strain bins the run's samples are averaged in (--db)")
-      ->check(cli::whole_in(std::uint64_t{1}, std::uint64_t{100000}))
-      ->capture_default_str();
+  auto* bins = cmd->add_option("--bins", o->bins, "strain bins the run's samples are averaged in (--db)")
+                   ->check(cli::whole_in(std::uint64_t{1}, std::uint64_t{100000}))
+                   ->capture_default_str();
   cmd->add_option("--model", o->model, "ogden1 | ogden2 | ogden3 | neo-hookean | mooney-rivlin | yeoh")
       ->capture_default_str();
   cmd->add_option("--poisson", o->poisson, "Poisson's ratio that sets D1 from the fitted shear modulus")
@@ -107,7 +126,39 @@ void install_fit(CLI::App& root) {
       ->capture_default_str();
   cmd->add_flag("--signed", o->signed_data, "data are signed nominal strain/stress (tension positive)");
   cmd->add_flag("--json", o->json, "machine-readable output");
-  cmd->callback([o] { run_fit(*o); });
+  // The inverse FE fit (docs/fe.md, "Inverse FE fit").
+  cmd->add_option("--method", o->method,
+                  "uniaxial: nominal stress = load / pin area (fast); fe: the pin-compression FE in the loop")
+      ->check(CLI::IsMember({"uniaxial", "fe"}))
+      ->capture_default_str();
+  cmd->add_option(
+         "--thickness", o->fe.thickness,
+         "sample thickness [mm] (--method fe with --csv of displacement [mm], load [N]; --db: the run's)")
+      ->check(cli::real_above(0.0, 100.0));
+  cmd->add_option("--kinematics", o->fe.kinematics,
+                  "FE kinematics: axi | plane-strain | plane-stress (--method fe)")
+      ->capture_default_str();
+  cmd->add_option("--bottom", o->fe.bottom, "skin bottom: bonded | sliding (--method fe)")
+      ->capture_default_str();
+  cmd->add_option("--refine", o->fe.refine, "FE mesh refinement (--method fe; 0.5 = coarse and 4x faster)")
+      ->check(cli::real_above(0.0, 16.0))
+      ->capture_default_str();
+  cmd->add_flag("--fit-d", o->fe.fit_D, "fit D1 too instead of setting it from --poisson (--method fe)");
+  cmd->add_option("--confidence", o->fe.confidence, "level of the parameter intervals (--method fe)")
+      ->check(cli::real_above(0.0, 0.9999))
+      ->capture_default_str();
+  cmd->add_option("--weight", o->fe.weight, "weight of the --db/--csv dataset in a joint fit (--method fe)")
+      ->check(cli::real_above(0.0, 1e12))
+      ->capture_default_str();
+  cmd->add_option("--dataset", o->fe.datasets,
+                  "another dataset for a joint fit, MODE:FILE[:WEIGHT]; MODE uniaxial | equibiaxial | "
+                  "simple-shear (CSV: signed nominal strain or shear, nominal stress MPa) or pin (CSV: "
+                  "displacement mm, load N; geometry from --thickness, --pin-radius); repeatable");
+  cmd->callback([o, bins] {
+    // The FE fit solves once per point and parameter: fewer, wider bins by default.
+    if (o->method == "fe") o->fe.bins = bins->count() ? o->bins : o->fe.bins;
+    run_fit(*o);
+  });
 }
 
 }  // namespace

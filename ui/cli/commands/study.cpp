@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
@@ -19,6 +20,7 @@
 #include "tocd/core/atomic_file.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/sim/parallel/team.hpp"
+#include "tocd/sim/study/sensitivity.hpp"
 #include "vtu_format_option.hpp"
 
 namespace cli = tocd::cli;
@@ -113,6 +115,92 @@ void add_common(CLI::App* cmd, StudyOptions& o) {
   tocd::cli::add_vtu_format_option(cmd, o.settings.vtu_format);
 }
 
+struct SensitivityOptions {
+  st::PredictionRequest base;
+  std::string fit_path;
+  bool json = false;
+};
+
+// The fitted law of `tocdlab fit --method fe --json` and the laws at its confidence ellipsoid's
+// axis ends.
+void read_fit(const std::string& path, SensitivityOptions& o,
+              std::vector<std::pair<std::string, tocd::sim::material::OgdenParameters>>& laws) {
+  std::ifstream in(path);
+  if (!in) throw tocd::ConfigError(fmt::format("--fit {}: cannot open the file", path));
+  auto law = [&](const nlohmann::json& j) {
+    tocd::sim::material::OgdenParameters p;
+    p.mu = j.at("mu_MPa").get<std::vector<double>>();
+    p.alpha = j.at("alpha").get<std::vector<double>>();
+    p.D = j.at("D_per_MPa").get<std::vector<double>>();
+    p.validate();
+    return p;
+  };
+  try {
+    const auto j = nlohmann::json::parse(in);
+    o.base.material = law(j.at("ogden"));
+    for (const auto& c : j.at("confidence_laws")) laws.emplace_back(c.at("label").get<std::string>(), law(c));
+  } catch (const nlohmann::json::exception& e) {
+    throw tocd::ConfigError(fmt::format(
+        "--fit {}: expected the output of `tocdlab fit --method fe --json` ({})", path, e.what()));
+  }
+}
+
+void run_sensitivity(SensitivityOptions o) {
+  std::vector<std::pair<std::string, tocd::sim::material::OgdenParameters>> laws;
+  if (!o.fit_path.empty()) read_fit(o.fit_path, o, laws);
+  st::validate(o.base);
+  const auto variants = st::sensitivity_variants(o.base, laws);
+  std::cerr << fmt::format("sensitivity of T at d = {} mm: base + {} variants, {} photons each, seed {}\n",
+                           o.base.displacement_mm, variants.size(), o.base.photons, o.base.seed);
+  st::Predictor predictor(1);
+  const auto table = st::run_sensitivity(predictor, o.base, variants, [](const std::string& line) {
+    std::cerr << line << '\n' << std::flush;
+  });
+  if (o.json) {
+    std::cerr << st::format_sensitivity(table);
+    std::cout << st::to_json(table).dump(2) << '\n';
+  } else {
+    std::cout << st::format_sensitivity(table);
+  }
+}
+
+void install_sensitivity(CLI::App* study) {
+  auto* cmd = study->add_subcommand(
+      "sensitivity", "dT of one step when one modelling choice at a time is changed (common random numbers)");
+  auto o = std::make_shared<SensitivityOptions>();
+  o->base.displacement_mm = 1.5;
+  o->base.photons = 1000000;
+  cmd->add_option("--displacement", o->base.displacement_mm, "pin displacement (mm)")
+      ->check(cli::real_in(0.0, 100.0))
+      ->capture_default_str();
+  cmd->add_option("--thickness", o->base.thickness_mm, "skin thickness (mm)")
+      ->check(cli::real_above(0.0, 100.0))
+      ->capture_default_str();
+  cmd->add_option("--photons", o->base.photons, "photons per simulation")
+      ->check(cli::whole_in(std::uint64_t{1}, cli::kMaxPhotons))
+      ->capture_default_str();
+  cmd->add_option("--seed", o->base.seed, "random seed (the same for every variant)")
+      ->check(cli::whole_in(std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max()))
+      ->capture_default_str();
+  cmd->add_option("--batches", o->base.batches, "batches (the standard errors come from their spread)")
+      ->check(cli::whole_in(std::int64_t{2}, std::int64_t{1000000}))
+      ->capture_default_str();
+  cmd->add_option("--threads", o->base.threads, "batches run at once (0 = all cores)")
+      ->check(cli::whole_in(std::int64_t{0}, std::int64_t{cli::kMaxThreads}))
+      ->capture_default_str();
+  cmd->add_option("--mesh", o->base.mesh_preset, "base mesh preset: fast | paper")
+      ->check(CLI::IsMember({"fast", "paper"}))
+      ->capture_default_str();
+  cmd->add_option("--optics", o->base.optics_model, "base optics model: threshold | graded")
+      ->check(CLI::IsMember({"threshold", "graded"}))
+      ->capture_default_str();
+  cmd->add_option(
+      "--fit", o->fit_path,
+      "a `tocdlab fit --method fe --json` file: its law is the base, its confidence laws vary it");
+  cmd->add_flag("--json", o->json, "one JSON document on stdout (the table goes to stderr)");
+  cmd->callback([o] { run_sensitivity(*o); });
+}
+
 void install_study(CLI::App& root) {
   auto* study =
       root.add_subcommand("study", "Parametric optical studies of pin compression (see docs/study.md)");
@@ -140,6 +228,7 @@ void install_study(CLI::App& root) {
                    "compressed-region optics, comma separated: native, a80, a60, s80, s60, n105, n110, "
                    "a80s80n105, a60s60n110, cleared, graded, MU_A/MU_S/N (default native)")
       ->delimiter(',');
+  install_sensitivity(study);
   sweep->add_flag("--no-baseline", o->no_baseline, "skip the glass-only baseline (sim 0)");
   sweep->callback([o] {
     run(*o, st::sweep_cases(o->settings, o->displacements, o->thicknesses, o->optics, !o->no_baseline),

@@ -53,6 +53,9 @@ struct FeModel {
   /// Plane kinematics only: out-of-plane depth of the section [mm]; the reported force is
   /// for the full width (both halves) times this depth.
   double depth_mm = 1.0;
+  /// An element belongs to the compressed region when its minimum principal log strain is at
+  /// or below this (the published threshold: -0.5).
+  double compressed_log_strain = -0.5;
   FeSolverSettings solver;
 
   /// 2.5 mm skin, 6.25 mm radius, 1.5 mm pin, published Ogden skin, axisymmetric, bonded.

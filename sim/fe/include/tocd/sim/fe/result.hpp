@@ -27,6 +27,7 @@ struct FeStepResult {
   /// configuration, closed (no repeated end point), outer boundaries counter-clockwise in
   /// (r, z); a hole (not met in practice) would come clockwise.
   std::vector<std::vector<Point2>> compressed_outlines;
+  double compressed_log_strain = -0.5;  ///< the threshold the region was drawn with (FeModel)
   double compressed_area_mm2 = 0;
   /// Axisymmetric: revolved volume 2 pi int r dA. Plane kinematics: area x depth_mm.
   double compressed_volume_mm3 = 0;

@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tocd/sim/fe/model.hpp"
 #include "tocd/sim/material/ogden.hpp"
 #include "tocd/sim/mc/optics.hpp"
 #include "tocd/sim/mc/run.hpp"
@@ -50,6 +51,13 @@ struct PredictionRequest {
   double pin_length_mm = 3.3, pin_radius_mm = 1.5;
   double slide_size_mm = 12.5, slide_thickness_mm = 1.0;
   double fe_refinement = 1.0;  ///< FeModel::mesh_refinement
+  /// FE modelling choices (the sensitivity study varies them). Written to the config only
+  /// when they differ from these defaults, so earlier configs read back unchanged.
+  fe::Kinematics fe_kinematics = fe::Kinematics::axisymmetric;
+  fe::Bottom fe_bottom = fe::Bottom::bonded;
+  double compressed_log_strain = -0.5;  ///< threshold of the compressed region (FeModel)
+  double fe_outer_radius_mm = 0;        ///< FE sample half width; 0 = half the slide size
+  double slide_n = 0;                   ///< refractive index of the slide; 0 = the glass of the model note
   /// When not empty: per-tet fluence .vtu and two slice CSVs go to this folder, named
   /// `fluence_stem` (default "prediction"). Not part of the config.
   std::string fluence_dir, fluence_stem;
