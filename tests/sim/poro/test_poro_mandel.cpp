@@ -46,11 +46,13 @@ double mandel_pressure(const std::vector<double>& roots, double prefactor, doubl
 
 #ifdef TOCD_PORO_LONG
 constexpr int kCells = 12, kStepsPerDecade = 80;
+#define TOCD_PORO_MANDEL PoroMandelLong
 #else
 constexpr int kCells = 6, kStepsPerDecade = 40;
+#define TOCD_PORO_MANDEL PoroMandel
 #endif
 
-TEST(PoroMandel, CentrePressureShowsTheMandelCryerRiseThenDecays) {
+TEST(TOCD_PORO_MANDEL, CentrePressureShowsTheMandelCryerRiseThenDecays) {
   const double mu = 0.01, nu = 0.0, a = 1.0, b = 1.0, k = 1.0, nu_u = 0.5;
   const double c = k * reference::constrained_modulus(mu, nu);
   const double F = 2e-4 * mu * a;  // half-width force: strains of the order of 1e-4

@@ -39,11 +39,13 @@ double terzaghi_degree(double T) {
 
 #ifdef TOCD_PORO_LONG
 constexpr int kRows = 16, kStepsPerDecade = 80;
+#define TOCD_PORO_TERZAGHI PoroTerzaghiLong
 #else
 constexpr int kRows = 8, kStepsPerDecade = 40;
+#define TOCD_PORO_TERZAGHI PoroTerzaghi
 #endif
 
-TEST(PoroTerzaghi, SettlementAndPorePressureFollowTheSeries) {
+TEST(TOCD_PORO_TERZAGHI, SettlementAndPorePressureFollowTheSeries) {
   const double mu = 0.01, nu = 0.3, H = 1.0, k = 1.0;
   const double Mc = reference::constrained_modulus(mu, nu), c = k * Mc;
   const double q = 1e-4 * Mc;  // strain 1e-4: the finite-strain terms are 1e-4 relative
