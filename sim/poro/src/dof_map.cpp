@@ -24,7 +24,7 @@ bool on_side(SideId s, int i, int j, int last_i, int last_j) {
 
 }  // namespace
 
-DofMap make_dof_map(const Grid& grid, const PoroModel& model) {
+DofMap make_dof_map(const Grid& grid, const PoroModel& model, const std::vector<bool>& sealed_top) {
   DofMap m;
   m.pressure_offset = 2 * grid.node_count();
   const int dofs = m.pressure_offset + grid.pressure_count();
@@ -48,6 +48,7 @@ DofMap make_dof_map(const Grid& grid, const PoroModel& model) {
     for (int i = 0; i <= grid.nx; ++i)
       for (const auto& [id, c] : sides)
         if (c->drained && on_side(id, i, j, grid.nx, grid.ny)) {
+          if (id == SideId::top && !sealed_top.empty() && sealed_top[i]) continue;
           const int dof = m.pressure_offset + grid.pressure_node(i, j);
           if (!fixed[dof]) m.drained_pressures.push_back(dof);
           fixed[dof] = true;

@@ -19,6 +19,8 @@ struct DofMap {
   int pressure_offset = 0;
 };
 
-DofMap make_dof_map(const Grid& grid, const PoroModel& model);
+/// `sealed_top` (empty, or one flag per top pressure node i = 0..nx): top pressure nodes kept
+/// impermeable although the top side is drained (under the pin).
+DofMap make_dof_map(const Grid& grid, const PoroModel& model, const std::vector<bool>& sealed_top = {});
 
 }  // namespace tocd::sim::poro

@@ -29,6 +29,15 @@ void PoroModel::validate() const {
     if (top.fix_y || top.normal_pressure)
       throw PoroError("top plate cannot be combined with fix_y or a normal pressure on the top side");
   }
+  if (pin.enabled) {
+    if (!pin.displacement_mm) throw PoroError("pin enabled without a displacement history");
+    if (!(pin.radius_mm > 0) || !std::isfinite(pin.radius_mm))
+      throw PoroError(fmt::format("pin radius must be positive (got {} mm)", pin.radius_mm));
+    if (plate.enabled) throw PoroError("pin and top plate cannot both act on the top side");
+    if (!left.fix_x) throw PoroError("pin on the axis x = 0: the left side needs fix_x");
+    if (!(pin.penalty_factor > 0) || !(pin.penetration_tolerance > 0) || pin.max_augmentations < 0)
+      throw PoroError("pin penalty_factor and penetration_tolerance must be positive");
+  }
   if (kinematics == Kinematics::axisymmetric && !left.fix_x)
     throw PoroError("axisymmetric model: the left side is the axis and needs fix_x");
   if (solver.max_newton_iterations < 1)

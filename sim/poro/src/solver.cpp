@@ -4,6 +4,7 @@
 #include <limits>
 #include <numbers>
 
+#include <Eigen/Dense>
 #include <Eigen/SparseCore>
 #include <Eigen/SparseLU>
 #include <fmt/format.h>
@@ -11,6 +12,7 @@
 #include "dof_map.hpp"
 #include "element.hpp"
 #include "grid.hpp"
+#include "pin_contact.hpp"
 #include "tocd/sim/material/hyperelastic.hpp"
 
 namespace tocd::sim::poro {
@@ -25,6 +27,11 @@ struct PoroSolver::Impl {
   std::vector<ElementGauss> gauss;
   Eigen::VectorXd values;  // every dof, converged at state.time_s
   PoroState state;
+  // Pin contact: multipliers (normal force per top node), penalties, and which top pressure
+  // nodes the glass seals (from the last converged contact).
+  std::vector<double> multipliers, penalties, contact_forces;
+  std::vector<bool> sealed_top;
+  mutable double energy_scale = 0;  // largest first-iteration Newton energy seen
 
   explicit Impl(PoroModel m) : model(std::move(m)) {
     model.validate();
@@ -34,6 +41,57 @@ struct PoroSolver::Impl {
     for (int e = 0; e < grid.element_count(); ++e)
       gauss.push_back(make_element_gauss(grid.element_box(e), model.kinematics));
     values = Eigen::VectorXd::Zero(dofs.pressure_offset + grid.pressure_count());
+    if (model.pin.enabled) {
+      const double mu0 = model.skeleton.initial_shear_modulus();
+      const double quarter = 0.25 * model.mesh.width_mm / model.mesh.nx;
+      for (int i = 0; i <= 2 * grid.nx; ++i) {
+        const double ring = model.kinematics == Kinematics::axisymmetric
+                                ? 2 * std::numbers::pi * std::max(grid.xs[i], quarter)
+                                : 1.0;
+        penalties.push_back(model.pin.penalty_factor * mu0 * ring);
+      }
+      multipliers.assign(penalties.size(), 0.0);
+      sealed_top.assign(grid.nx + 1, false);
+    }
+  }
+
+  double pin_centre(double t) const {
+    return model.mesh.height_mm - model.pin.displacement_mm(t) + model.pin.radius_mm;
+  }
+
+  // Contact force of top node i at state x: N = max(0, lambda - eps g) along the pin normal.
+  struct NodeContact {
+    PinGap gap;
+    double force = 0;
+  };
+  NodeContact node_contact(const Eigen::VectorXd& x, int i, double centre) const {
+    const int n = grid.node(i, 2 * grid.ny);
+    NodeContact c;
+    c.gap = pin_gap(grid.xs[i] + x[2 * n], grid.ys.back() + x[2 * n + 1], model.pin.radius_mm, centre);
+    c.force = std::max(0.0, multipliers[i] - penalties[i] * c.gap.gap);
+    return c;
+  }
+
+  void add_contact(const Eigen::VectorXd& x, double t, Eigen::VectorXd& internal,
+                   std::vector<Eigen::Triplet<double>>* triplets) const {
+    const double centre = pin_centre(t);
+    for (int i = 0; i <= 2 * grid.nx; ++i) {
+      const NodeContact c = node_contact(x, i, centre);
+      if (!(c.force > 0)) continue;
+      const int n = grid.node(i, 2 * grid.ny);
+      const Eigen::Vector2d& nv = c.gap.normal;
+      for (int a = 0; a < 2; ++a) internal[2 * n + a] -= c.force * nv[a];
+      if (!triplets) continue;
+      // d(-N n)/dx = eps n n^T - N kappa (I - n n^T)
+      const Eigen::Matrix2d nn = nv * nv.transpose();
+      const Eigen::Matrix2d k =
+          penalties[i] * nn - c.force * c.gap.curvature * (Eigen::Matrix2d::Identity() - nn);
+      for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b) {
+          const int ea = dofs.equation[2 * n + a], eb = dofs.equation[2 * n + b];
+          if (ea >= 0 && eb >= 0) triplets->emplace_back(ea, eb, k(a, b));
+        }
+    }
   }
 
   std::array<int, kElementDofs> element_dofs(int e) const {
@@ -89,7 +147,7 @@ struct PoroSolver::Impl {
   }
 
   // Internal force per dof and (optionally) the tangent in equation numbering.
-  bool assemble(const Eigen::VectorXd& x, double dt, Eigen::VectorXd& internal,
+  bool assemble(const Eigen::VectorXd& x, double t, double dt, Eigen::VectorXd& internal,
                 std::vector<Eigen::Triplet<double>>* triplets) const {
     internal = Eigen::VectorXd::Zero(x.size());
     const ElementPhysics physics{model.kinematics, skeleton.get(), &model.permeability, dt};
@@ -110,6 +168,7 @@ struct PoroSolver::Impl {
         }
       }
     }
+    if (model.pin.enabled) add_contact(x, t, internal, triplets);
     return true;
   }
 
@@ -134,41 +193,36 @@ struct PoroSolver::Impl {
     return change;
   }
 
-  const PoroState& advance_to(double t) {
-    const double dt = t - state.time_s;
-    if (!(dt > 0) || !std::isfinite(t))
-      throw PoroError(fmt::format("time {} s does not advance the state at {} s", t, state.time_s));
-    Eigen::VectorXd x = values;
-    if (model.plate.enabled && model.plate.displacement_mm)
-      for (int d : dofs.plate_dofs) x[d] = -model.plate.displacement_mm(t);
-    const Eigen::VectorXd f_ext = external_forces(t);
-    Eigen::VectorXd internal;
+  // Newton iterations of one backward-Euler step from x; `internal` ends at the converged x.
+  int newton(Eigen::VectorXd& x, double t, double dt, const Eigen::VectorXd& f_ext,
+             Eigen::VectorXd& internal) const {
     std::vector<Eigen::Triplet<double>> triplets;
     Eigen::SparseMatrix<double> K(dofs.equation_count, dofs.equation_count);
     Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
-    double first_energy = -1;
-    int it = 0;
-    for (;; ++it) {
+    double first_energy = -1, previous_energy = 0;
+    for (int it = 0;; ++it) {
       if (it >= model.solver.max_newton_iterations)
         throw PoroError(
             fmt::format("Newton did not converge in {} iterations at t = {} s (dt = {} s)", it, t, dt));
       triplets.clear();
-      if (!assemble(x, dt, internal, &triplets))
+      if (!assemble(x, t, dt, internal, &triplets))
         throw PoroError(fmt::format("inadmissible state (J <= phi0 or inverted element) at t = {} s", t));
       const Eigen::VectorXd r = reduce(internal - f_ext);
       K.setFromTriplets(triplets.begin(), triplets.end());
-      if (it == 0) lu.analyzePattern(K);
-      lu.factorize(K);
+      lu.compute(K);
       if (lu.info() != Eigen::Success) throw PoroError(fmt::format("singular tangent at t = {} s", t));
       const Eigen::VectorXd du = lu.solve(-r);
       const double energy = std::abs(r.dot(du));
       if (first_energy < 0) first_energy = energy;
-      // Round-off floor: the energy norm cannot drop far below ~eps^2 of the work the forces do
-      // on the current state, however small this step's change is.
-      double work = 0;
-      for (int d = 0; d < x.size(); ++d) work += std::abs(internal[d] * x[d]) + std::abs(f_ext[d] * x[d]);
-      if (energy <= model.solver.energy_tolerance * first_energy || energy <= 1e-20 * work || energy == 0)
-        break;
+      // Round-off floor, measured against the largest first-iteration energy of any step so
+      // far (late in a hold a step changes little, so its own first energy is no scale):
+      // converged below 1e-24 of it, or once below 1e-14 of it and no longer falling.
+      energy_scale = std::max(energy_scale, first_energy);
+      const bool stagnant = it >= 2 && energy >= 0.1 * previous_energy && energy <= 1e-14 * energy_scale;
+      if (energy <= model.solver.energy_tolerance * first_energy || energy <= 1e-24 * energy_scale ||
+          stagnant || energy == 0)
+        return it;
+      previous_energy = energy;
       // Halve the step until the state is admissible.
       double scale = 1;
       for (int cut = 0;; ++cut) {
@@ -176,7 +230,7 @@ struct PoroSolver::Impl {
         for (int d = 0; d < x.size(); ++d)
           if (dofs.equation[d] >= 0) trial[d] += scale * du[dofs.equation[d]];
         Eigen::VectorXd probe;
-        if (assemble(trial, dt, probe, nullptr)) {
+        if (assemble(trial, t, dt, probe, nullptr)) {
           x = trial;
           break;
         }
@@ -184,13 +238,60 @@ struct PoroSolver::Impl {
         scale *= 0.5;
       }
     }
+  }
+
+  const PoroState& advance_to(double t) {
+    const double dt = t - state.time_s;
+    if (!(dt > 0) || !std::isfinite(t))
+      throw PoroError(fmt::format("time {} s does not advance the state at {} s", t, state.time_s));
+    const auto saved_multipliers = multipliers;
+    const DofMap saved_dofs = dofs;
+    try {
+      if (model.pin.enabled) dofs = make_dof_map(grid, model, sealed_top);
+      Eigen::VectorXd x = values;
+      for (int d : dofs.drained_pressures) x[d] = 0;
+      if (model.plate.enabled && model.plate.displacement_mm)
+        for (int d : dofs.plate_dofs) x[d] = -model.plate.displacement_mm(t);
+      const Eigen::VectorXd f_ext = external_forces(t);
+      Eigen::VectorXd internal;
+      int iterations = 0;
+      double penetration = 0;
+      for (int aug = 0;; ++aug) {
+        iterations += newton(x, t, dt, f_ext, internal);
+        if (!model.pin.enabled) break;
+        // Augmented Lagrangian: multipliers take the converged contact forces.
+        const double centre = pin_centre(t);
+        penetration = 0;
+        std::vector<double> forces(multipliers.size());
+        for (std::size_t i = 0; i < multipliers.size(); ++i) {
+          const NodeContact c = node_contact(x, static_cast<int>(i), centre);
+          penetration = std::max(penetration, -c.gap.gap);
+          forces[i] = c.force;
+        }
+        multipliers = forces;
+        contact_forces = forces;
+        const double depth = std::max(std::abs(model.pin.displacement_mm(t)), 1e-6 * model.mesh.height_mm);
+        if (penetration <= model.pin.penetration_tolerance * depth || aug >= model.pin.max_augmentations)
+          break;
+      }
+      commit(x, internal, t, iterations, penetration);
+    } catch (...) {
+      multipliers = saved_multipliers;
+      dofs = saved_dofs;
+      throw;
+    }
+    return state;
+  }
+
+  void commit(const Eigen::VectorXd& x, const Eigen::VectorXd& internal, double t, int iterations,
+              double penetration) {
     // Water through drained sides: minus the Darcy residual there (its sum over all nodes is
     // int (J - J_n) dV, the water taken up).
     double outflow = 0;
     for (int d : dofs.drained_pressures) outflow -= internal[d];
     values = x;
     state.time_s = t;
-    state.newton_iterations = it;
+    state.newton_iterations = iterations;
     state.water_outflow_mm3 += outflow;
     state.water_content_change_mm3 = water_content_change(values);
     if (model.plate.enabled) {
@@ -199,9 +300,72 @@ struct PoroSolver::Impl {
       for (int d : dofs.plate_dofs) force -= internal[d];
       state.plate_force_N = force;
     }
-    return state;
+    if (model.pin.enabled) {
+      const double centre = pin_centre(t);
+      state.pin_force_N = 0;
+      state.pin_contact_radius_mm = 0;
+      state.max_penetration_mm = penetration;
+      for (int i = 0; i <= 2 * grid.nx; ++i) {
+        const NodeContact c = node_contact(values, i, centre);
+        if (!(contact_forces[i] > 0)) continue;
+        state.pin_force_N += -contact_forces[i] * c.gap.normal[1];
+        const int n = grid.node(i, 2 * grid.ny);
+        state.pin_contact_radius_mm = std::max(state.pin_contact_radius_mm, grid.xs[i] + values[2 * n]);
+      }
+      // The glass seals the pressure nodes it touches for the next step.
+      for (int i = 0; i <= grid.nx; ++i) sealed_top[i] = contact_forces[2 * i] > 0;
+    }
   }
 };
+
+std::vector<Eigen::Vector2d> PoroSolver::top_surface() const {
+  const Grid& g = impl_->grid;
+  std::vector<Eigen::Vector2d> out;
+  for (int i = 0; i <= 2 * g.nx; ++i) {
+    const int n = g.node(i, 2 * g.ny);
+    out.emplace_back(g.xs[i] + impl_->values[2 * n], g.ys.back() + impl_->values[2 * n + 1]);
+  }
+  return out;
+}
+
+bool PoroSolver::reference_point_of(double x_mm, double y_mm, double& X_mm, double& Y_mm) const {
+  const Grid& g = impl_->grid;
+  const Eigen::Vector2d target(x_mm, y_mm);
+  for (int e = 0; e < g.element_count(); ++e) {
+    const auto nodes = g.element_nodes(e);
+    const auto box = g.element_box(e);
+    Eigen::Vector2d lo(1e300, 1e300), hi(-1e300, -1e300), xa[9];
+    for (int a = 0; a < 9; ++a) {
+      const int n = nodes[a], i = n % (2 * g.nx + 1), j = n / (2 * g.nx + 1);
+      xa[a] = Eigen::Vector2d(g.xs[i] + impl_->values[2 * n], g.ys[j] + impl_->values[2 * n + 1]);
+      lo = lo.cwiseMin(xa[a]);
+      hi = hi.cwiseMax(xa[a]);
+    }
+    const Eigen::Vector2d pad = 0.05 * (hi - lo);
+    if ((target.array() < (lo - pad).array()).any() || (target.array() > (hi + pad).array()).any()) continue;
+    Eigen::Vector2d s(0, 0);  // local (xi, eta), Newton on x(s) = target
+    for (int it = 0; it < 30; ++it) {
+      const Shape sh = shape_at(s[0], s[1]);
+      Eigen::Vector2d x = Eigen::Vector2d::Zero();
+      Eigen::Matrix2d dx = Eigen::Matrix2d::Zero();
+      for (int a = 0; a < 9; ++a) {
+        x += sh.N9[a] * xa[a];
+        dx.col(0) += sh.dN9[a][0] * xa[a];
+        dx.col(1) += sh.dN9[a][1] * xa[a];
+      }
+      const Eigen::Vector2d step = dx.inverse() * (target - x);
+      s += step;
+      if (!s.allFinite() || s.cwiseAbs().maxCoeff() > 3) break;
+      if (step.norm() < 1e-12) break;
+    }
+    if (s.allFinite() && s.cwiseAbs().maxCoeff() <= 1 + 1e-9) {
+      X_mm = box[0] + 0.5 * (1 + s[0]) * (box[1] - box[0]);
+      Y_mm = box[2] + 0.5 * (1 + s[1]) * (box[3] - box[2]);
+      return true;
+    }
+  }
+  return false;
+}
 
 PoroSolver::PoroSolver(PoroModel model) : impl_(std::make_unique<Impl>(std::move(model))) {}
 PoroSolver::~PoroSolver() = default;

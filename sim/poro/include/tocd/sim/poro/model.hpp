@@ -54,6 +54,20 @@ struct TopPlate {
   std::function<double(double)> displacement_mm;
 };
 
+/// A rigid pin (hemispherical tip of `radius_mm` on a cylindrical shaft of the same radius,
+/// on the axis x = 0) pressed into the top side; frictionless augmented-Lagrangian contact on
+/// the top nodes. Where the top is drained, the nodes in contact are sealed by the glass (the
+/// drained set follows the contact of the previous time step).
+struct Pin {
+  bool enabled = false;
+  double radius_mm = 1.5;
+  /// Tip depth below the undeformed top [mm] at time t.
+  std::function<double(double)> displacement_mm;
+  double penalty_factor = 200;          ///< penalty = factor x mu_0 x nodal ring length (axi)
+  double penetration_tolerance = 1e-3;  ///< largest penetration as a fraction of the depth
+  int max_augmentations = 8;
+};
+
 /// Rectangle [0, width] x [0, height] in elements nx x ny; rows grow geometrically by
 /// `row_grading` (ratio of the top row's height to the bottom row's; 1 = uniform).
 struct RectangleMesh {
@@ -77,6 +91,7 @@ struct PoroModel {
   Permeability permeability;
   SideCondition left, right, bottom, top;
   TopPlate plate;
+  Pin pin;
   PoroSolverSettings solver;
 
   /// Throws PoroError naming the bad field.

@@ -21,6 +21,9 @@ struct PoroState {
   /// Change of the water volume held by the section since t = 0: int (J - 1) dV [mm^3]
   /// (constituents incompressible: the mixture changes volume only by water).
   double water_content_change_mm3 = 0;
+  double pin_force_N = 0;            ///< force the pin carries (contact sum)
+  double pin_contact_radius_mm = 0;  ///< largest current x of a top node in contact
+  double max_penetration_mm = 0;     ///< after the last augmentation
 };
 
 /// Biphasic finite-strain FE on a rectangle: Taylor-Hood pair (9-node biquadratic
@@ -47,6 +50,12 @@ class PoroSolver {
   double volume_ratio_at(double x_mm, double y_mm) const;
 
   const PoroModel& model() const;
+
+  /// Deformed top surface: the current positions of the top nodes, x ascending from 0.
+  std::vector<Eigen::Vector2d> top_surface() const;
+  /// Reference point whose current position is (x, y); false where (x, y) is outside the
+  /// deformed section.
+  bool reference_point_of(double x_mm, double y_mm, double& X_mm, double& Y_mm) const;
 
   /// The element residual and its analytic tangent, exposed so that tests can compare the
   /// tangent with finite differences. Element-local dofs: 9 nodes x (u_x, u_y), then 4 p.
