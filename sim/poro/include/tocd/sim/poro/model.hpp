@@ -1,0 +1,101 @@
+#pragma once
+
+#include <functional>
+
+#include "tocd/core/error.hpp"
+#include "tocd/sim/material/ogden.hpp"
+
+namespace tocd::sim::poro {
+
+/// Bad biphasic model input (names the field and the value found).
+class PoroError : public tocd::ConfigError {
+ public:
+  using tocd::ConfigError::ConfigError;
+};
+
+/// axisymmetric: x = r (axis at x = 0), volumes and forces for the full revolution;
+/// plane_strain: per mm of out-of-plane depth.
+enum class Kinematics { axisymmetric, plane_strain };
+
+/// Strain-dependent permeability of Holmes & Mow (1990, J. Biomech. 23:1145), the finite-strain
+/// form of Lai & Mow (1980):
+///   k(J) = k0 ((J - phi0) / (1 - phi0))^kappa exp(M (J^2 - 1) / 2)
+/// with J the volume ratio of the skeleton and phi0 the solid volume fraction at J = 1.
+/// k is the hydraulic permeability (Darcy's k / water viscosity) in mm^4/(N s) = mm^2/(MPa s).
+struct Permeability {
+  double k0_mm4_per_Ns = 1e-3;
+  double solid_fraction = 0.2;  ///< phi0 in (0, 1)
+  double kappa = 0;             ///< exponent of the porosity factor (>= 0)
+  double M = 0;                 ///< exponential stiffening coefficient (>= 0)
+
+  double at(double J) const;          ///< k(J); NaN for J <= phi0 (no pore space left)
+  double derivative(double J) const;  ///< dk/dJ
+  void validate() const;
+};
+
+/// One straight side of the rectangular section.
+struct SideCondition {
+  bool fix_x = false;    ///< u_x = 0 on the side (symmetry plane, axis, lateral confinement)
+  bool fix_y = false;    ///< u_y = 0 on the side
+  bool drained = false;  ///< p = 0: water leaves or enters freely; otherwise impermeable
+  /// Normal pressure on the side [MPa] at time t [s] (compressive positive), applied on the
+  /// undeformed side (dead load); empty: none.
+  std::function<double(double)> normal_pressure;
+};
+
+/// A rigid, frictionless plate on the top side: every top node moves down together (u_y
+/// shared), u_x stays free. Driven either by its total force or by its displacement.
+struct TopPlate {
+  bool enabled = false;
+  /// Total compressive force [N] at time t (axisymmetric: full revolution; plane: per mm of
+  /// depth for the modelled section). Used when `displacement_mm` is empty.
+  std::function<double(double)> force_N;
+  /// Downward displacement [mm] at time t (positive = compression); takes precedence.
+  std::function<double(double)> displacement_mm;
+};
+
+/// A rigid pin (hemispherical tip of `radius_mm` on a cylindrical shaft of the same radius,
+/// on the axis x = 0) pressed into the top side; frictionless augmented-Lagrangian contact on
+/// the top nodes. Where the top is drained, the nodes in contact are sealed by the glass (the
+/// drained set follows the contact of the previous time step).
+struct Pin {
+  bool enabled = false;
+  double radius_mm = 1.5;
+  /// Tip depth below the undeformed top [mm] at time t.
+  std::function<double(double)> displacement_mm;
+  double penalty_factor = 200;          ///< penalty = factor x mu_0 x nodal ring length (axi)
+  double penetration_tolerance = 1e-3;  ///< largest penetration as a fraction of the depth
+  int max_augmentations = 8;
+};
+
+/// Rectangle [0, width] x [0, height] in elements nx x ny; rows grow geometrically by
+/// `row_grading` (ratio of the top row's height to the bottom row's; 1 = uniform).
+struct RectangleMesh {
+  double width_mm = 1, height_mm = 1;
+  int nx = 4, ny = 4;
+  double row_grading = 1;
+};
+
+struct PoroSolverSettings {
+  int max_newton_iterations = 25;
+  /// Converged when the energy norm |R . du| has dropped by this factor from the first
+  /// iteration of the time step.
+  double energy_tolerance = 1e-20;
+};
+
+struct PoroModel {
+  Kinematics kinematics = Kinematics::plane_strain;
+  RectangleMesh mesh;
+  /// Drained skeleton law (Abaqus-form Ogden; needs a bulk modulus: D_1 > 0).
+  tocd::sim::material::OgdenParameters skeleton;
+  Permeability permeability;
+  SideCondition left, right, bottom, top;
+  TopPlate plate;
+  Pin pin;
+  PoroSolverSettings solver;
+
+  /// Throws PoroError naming the bad field.
+  void validate() const;
+};
+
+}  // namespace tocd::sim::poro

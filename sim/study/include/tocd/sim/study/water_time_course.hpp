@@ -1,0 +1,47 @@
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "tocd/sim/material/ogden.hpp"
+#include "tocd/sim/poro/model.hpp"
+#include "tocd/sim/study/water_optics.hpp"
+
+namespace tocd::sim::study {
+
+/// A compression step followed by a hold, with water (docs/water.md): the pin is pushed to
+/// `displacement_mm` over `ramp_s`, then held; at each of `times_s` (seconds since the start
+/// of the hold) the biphasic FE state is meshed and its transmission computed with
+/// water-content optics.
+struct WaterTimeCourseRequest {
+  double displacement_mm = 0.625, thickness_mm = 2.5, outer_radius_mm = 6.25, pin_radius_mm = 1.5;
+  /// Defaults: the combination the solver is known to converge for (docs/water.md, State).
+  double ramp_s = 30.0;
+  std::vector<double> times_s = {0, 10, 30, 60};
+  /// Skeleton: the published Ogden mu_i, alpha_i with a drained Poisson's ratio (D_1 from it).
+  tocd::sim::material::OgdenParameters skeleton;
+  double drained_poisson = 0.49;
+  tocd::sim::poro::Permeability permeability{1.0, 0.25, 0.0, 0.0};
+  int fe_columns = 24, fe_rows = 8, steps_per_interval = 1;
+  WaterOptics optics;
+  std::uint64_t photons = 20000, seed = 1;
+  int threads = 0;
+  std::string mesh_preset = "fast";
+};
+
+struct WaterTimePoint {
+  double time_s = 0;  ///< since the start of the hold
+  double T = 0, T_stderr = 0;
+  double pin_force_N = 0, water_outflow_mm3 = 0;
+  std::vector<std::size_t> tets_per_level;
+  double fe_seconds = 0, mesh_seconds = 0, mc_seconds = 0;
+};
+
+/// Throws tocd::ConfigError naming the bad field.
+void validate(const WaterTimeCourseRequest& r);
+std::vector<WaterTimePoint> predict_water_time_course(const WaterTimeCourseRequest& r);
+nlohmann::json to_json(const WaterTimePoint& p);
+
+}  // namespace tocd::sim::study
