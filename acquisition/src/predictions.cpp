@@ -56,7 +56,8 @@ void Engine::Impl::run_predictions() {
                  fmt::format("step {}: predicted T = {:.5f} +- {:.5f} (measured {:.5f}), {:.1f} s",
                              step.index + 1, p.T, p.T_stderr, step.measured_T, p.seconds),
                  step.index);
-      notify([&](EngineObserver& o) { o.on_prediction(step.index, p); });
+      // `index = step.index`: clang 14 cannot capture a structured binding.
+      notify([&, index = step.index](EngineObserver& o) { o.on_prediction(index, p); });
     } catch (const std::exception& e) {
       emit_event("prediction", fmt::format("step {}: prediction failed: {}", step.index + 1, e.what()),
                  step.index);
