@@ -1,8 +1,8 @@
 // The simulated power meter's SCPI command parser, reached as a host reaches it over USB:
 // each input line becomes one program message in a DEV_DEP_MSG_OUT transfer to the meter's
 // in-process USBTMC endpoint, and its answer (if any) is fetched with a REQUEST_DEV_DEP_MSG_IN.
-// Lines run in order against one meter, so sequences (zeroing, INIT then FETC?, the error
-// queue filling up) are explored too.
+// Lines run in order against one meter (fresh for each input), so sequences (zeroing, INIT then FETC?, the
+// error queue filling up) are explored too.
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
@@ -22,28 +22,25 @@ namespace {
 namespace usbtmc = tocd::devices::usbtmc;
 using tocd::devices::UsbStatus;
 
-tocd::mocks::PowerMeterTwin& meter() {
-  static tocd::mocks::PowerMeterTwin twin([] {
-    tocd::mocks::PowerMeterTwinOptions o;
-    o.power_W = [] { return 1e-3; };
-    // Simulated time runs a million times faster than real time, so that a zeroing or a
-    // long averaging never makes the fuzzer wait.
-    o.clock = std::make_shared<tocd::mocks::SimClock>(1e6);
-    return o;
-  }());
-  return twin;
+tocd::mocks::PowerMeterTwinOptions options() {
+  tocd::mocks::PowerMeterTwinOptions o;
+  o.power_W = [] { return 1e-3; };
+  // Simulated time runs a million times faster than real time, so that a zeroing or a
+  // long averaging never makes the fuzzer wait.
+  o.clock = std::make_shared<tocd::mocks::SimClock>(1e6);
+  return o;
 }
 
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   tocd::fuzz::quiet_logging();
-  (void)meter();
   return 0;
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const auto endpoint = meter().open_usb_endpoint();
+  tocd::mocks::PowerMeterTwin meter(options());  // fresh per input: a finding replays alone
+  const auto endpoint = meter.open_usb_endpoint();
   std::string_view rest = tocd::fuzz::as_text(data, size);
   std::uint8_t tag = 0;
   std::vector<std::uint8_t> in(4096 + usbtmc::header_size + 4);

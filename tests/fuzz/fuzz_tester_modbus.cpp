@@ -1,6 +1,8 @@
 // The simulated mechanical tester's Modbus TCP server: the input is what one client sends on
 // one connection (MBAP frames back to back), served by the server's own framing and request
-// handling. Whatever arrives, every answer must be a well-formed Modbus TCP frame.
+// handling. Whatever arrives, every answer must be a well-formed Modbus TCP frame. Each input
+// gets a fresh tester, so that a finding replays from its input alone; its clock runs at the
+// largest factor `tocdlab simlab --clock-factor` accepts, so moves finish within one input.
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -12,13 +14,10 @@
 
 namespace {
 
-tocd::mocks::TesterTwin& tester() {
-  static tocd::mocks::TesterTwin twin([] {
-    tocd::mocks::TesterTwinOptions o;
-    o.clock = std::make_shared<tocd::mocks::SimClock>(1000.0);  // moves finish while fuzzing
-    return o;
-  }());
-  return twin;
+tocd::mocks::TesterTwinOptions options() {
+  tocd::mocks::TesterTwinOptions o;
+  o.clock = std::make_shared<tocd::mocks::SimClock>(1e6);
+  return o;
 }
 
 // Each answer frame: MBAP header whose length field covers exactly the unit id and the PDU.
@@ -37,12 +36,12 @@ void check_frames(const std::string& sent) {
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   tocd::fuzz::quiet_logging();
-  (void)tester();
   return 0;
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const auto reply = tester().serve_stream(tocd::fuzz::as_text(data, size));
+  tocd::mocks::TesterTwin tester(options());
+  const auto reply = tester.serve_stream(tocd::fuzz::as_text(data, size));
   check_frames(reply.sent);
   return 0;
 }

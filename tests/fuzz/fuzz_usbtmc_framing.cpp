@@ -19,20 +19,16 @@ namespace {
 
 namespace usbtmc = tocd::devices::usbtmc;
 
-tocd::mocks::PowerMeterTwin& meter() {
-  static tocd::mocks::PowerMeterTwin twin([] {
-    tocd::mocks::PowerMeterTwinOptions o;
-    o.clock = std::make_shared<tocd::mocks::SimClock>(1e6);  // no simulated wait is ever felt
-    return o;
-  }());
-  return twin;
+tocd::mocks::PowerMeterTwinOptions options() {
+  tocd::mocks::PowerMeterTwinOptions o;
+  o.clock = std::make_shared<tocd::mocks::SimClock>(1e6);  // no simulated wait is ever felt
+  return o;
 }
 
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   tocd::fuzz::quiet_logging();
-  (void)meter();
   return 0;
 }
 
@@ -51,7 +47,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } catch (const tocd::devices::LinkError&) {
   }
 
-  const auto endpoint = meter().open_usb_endpoint();
+  tocd::mocks::PowerMeterTwin meter(options());  // fresh per input: a finding replays alone
+  const auto endpoint = meter.open_usb_endpoint();
   const std::size_t chunk = 12 + 4 * (data[1] % 8);
   for (std::size_t at = 0; at < bytes.size(); at += chunk) {
     const auto transfer = bytes.subspan(at, std::min(chunk, bytes.size() - at));
