@@ -24,6 +24,10 @@ inline std::uint64_t json_whole_number(const nlohmann::json& value, const std::s
   if (value.is_number_unsigned()) {
     n = value.get<std::uint64_t>();
     whole = true;
+  } else if (value.is_number_integer()) {  // signed: what a json built from an int holds
+    const auto i = value.get<std::int64_t>();
+    whole = i >= 0;
+    if (whole) n = static_cast<std::uint64_t>(i);
   } else if (value.is_number_float()) {
     const double d = value.get<double>();
     whole = d >= 0.0 && d <= 9007199254740992.0 && d == std::floor(d);
