@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 #include <string>
 
 #include <fmt/format.h>
@@ -205,29 +206,41 @@ LabConfig load_lab_config(const std::filesystem::path& path) {
   return parse_lab_config(text, path.string());
 }
 
+namespace {
+
+/// A TOML basic string of `text`, quotes and control characters escaped by toml++ itself, so
+/// that a name holding `"` or an ESC reads back as written and cannot add keys of its own.
+std::string toml_string(const std::string& text) {
+  std::ostringstream out;
+  out << toml::value<std::string>(text);
+  return out.str();
+}
+
+}  // namespace
+
 std::string to_toml(const LabConfig& cfg) {
   std::string out;
   auto link = [&](const ModbusOptions& o) {
     out += fmt::format("timeout_s = {}\nretries = {}\nbackoff_s = {}\n", o.timeout_s, o.retries, o.backoff_s);
   };
-  if (!cfg.name.empty()) out += fmt::format("[lab]\nname = \"{}\"\n\n", cfg.name);
+  if (!cfg.name.empty()) out += fmt::format("[lab]\nname = {}\n\n", toml_string(cfg.name));
   if (cfg.tester) {
     const auto& a = cfg.tester->address;
-    out += fmt::format("[tester]\ntransport = \"modbus-tcp\"\nhost = \"{}\"\nport = {}\nslave_id = {}\n",
-                       a.host, a.port, a.slave_id);
+    out += fmt::format("[tester]\ntransport = \"modbus-tcp\"\nhost = {}\nport = {}\nslave_id = {}\n",
+                       toml_string(a.host), a.port, a.slave_id);
     link(cfg.tester->link);
     out += "\n";
   }
   if (cfg.power_meter) {
     const auto& p = *cfg.power_meter;
     if (p.transport == PowerMeterConfig::Transport::scpi_tcp)
-      out +=
-          fmt::format("[power_meter]\ntransport = \"scpi-tcp\"\nhost = \"{}\"\nport = {}\n", p.host, p.port);
+      out += fmt::format("[power_meter]\ntransport = \"scpi-tcp\"\nhost = {}\nport = {}\n",
+                         toml_string(p.host), p.port);
     else
       out += fmt::format(
           "[power_meter]\ntransport = \"usbtmc\"\nvendor_id = 0x{:04x}\nproduct_id = 0x{:04x}\n"
-          "serial = \"{}\"\n",
-          p.vendor_id, p.product_id, p.serial);
+          "serial = {}\n",
+          p.vendor_id, p.product_id, toml_string(p.serial));
     out += fmt::format("timeout_s = {}\nretries = {}\n", p.timeout_s, p.retries);
     if (p.wavelength_nm > 0) out += fmt::format("wavelength_nm = {}\n", p.wavelength_nm);
     out += "\n";
@@ -235,9 +248,9 @@ std::string to_toml(const LabConfig& cfg) {
   if (cfg.vacuum) {
     const auto& a = cfg.vacuum->address;
     out += fmt::format(
-        "[vacuum]\ntransport = \"modbus-rtu\"\ndevice = \"{}\"\nbaud = {}\nparity = \"{}\"\n"
+        "[vacuum]\ntransport = \"modbus-rtu\"\ndevice = {}\nbaud = {}\nparity = \"{}\"\n"
         "data_bits = {}\nstop_bits = {}\nslave_id = {}\n",
-        a.device, a.baud, a.parity, a.data_bits, a.stop_bits, a.slave_id);
+        toml_string(a.device), a.baud, a.parity, a.data_bits, a.stop_bits, a.slave_id);
     link(cfg.vacuum->link);
   }
   return out;

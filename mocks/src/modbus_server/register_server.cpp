@@ -93,8 +93,12 @@ ModbusAnswer serve_request(bool tcp, const std::uint8_t* adu, int length, modbus
   }
   if (fault && fault->kind == K::no_reply) return a;
   if (fault && fault->kind == K::delay_reply) a.delay_s = fault->delay_s;
+  // A broadcast on a serial line is acted on and never answered, not even with an exception:
+  // every slave on the line would answer at once (Modbus over serial line, 2.2).
+  const bool broadcast = !tcp && slave == MODBUS_BROADCAST_ADDRESS;
   const auto send = [&](const std::vector<std::uint8_t>& pdu, std::uint8_t as_slave = 0,
                         bool bad_crc = false) {
+    if (broadcast) return a;
     a.kind = Kind::send;
     a.bytes = frame(tcp, adu, as_slave ? as_slave : slave, pdu, bad_crc);
     return a;
@@ -109,8 +113,6 @@ ModbusAnswer serve_request(bool tcp, const std::uint8_t* adu, int length, modbus
       return send(exception_pdu(r.function, exc));
   if (!fault || fault->kind == K::delay_reply || (fault->kind == K::nan_value && r.is_write())) {
     if (r.is_write()) apply_write(r, map, device);
-    // A broadcast on a serial line is acted on and never answered.
-    if (!tcp && slave == MODBUS_BROADCAST_ADDRESS) return a;
     return send(answer_pdu(r, map, r.count));
   }
   switch (fault->kind) {

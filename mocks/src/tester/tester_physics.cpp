@@ -30,9 +30,15 @@ void TesterPhysics::advance(double t_s) {
     overstress_N_ *= std::exp(-dt / p_.relaxation_time_s);
     return;
   }
-  // Moving: 1 ms (simulated) steps resolve the load limit to within one step of travel.
+  // Moving: 1 ms (simulated) steps resolve the load limit to within one step of travel. No call
+  // takes more than max_steps steps, though: a move may last for ever (any velocity above 0
+  // is accepted, 1e-30 mm/s too), and a request after a long silence or at a large clock
+  // factor would otherwise step through all the simulated time since, stalling the server
+  // (found by the tester_modbus fuzz target). Longer steps then cover it.
+  constexpr double max_steps = 1e4;
+  const double longest = std::max(1e-3, dt / max_steps);
   while (dt > 0.0 && moving_) {
-    const double h = std::min(dt, 1e-3);
+    const double h = std::min(dt, longest);
     step(h);
     dt -= h;
   }

@@ -2,6 +2,7 @@
 #include "tocd/mocks/tester_twin.hpp"
 
 #include <cmath>
+#include <deque>
 #include <vector>
 
 #include <fmt/format.h>
@@ -113,6 +114,7 @@ struct TesterTwin::Impl {
   FaultQueue faults;
   modbus_mapping_t* map = nullptr;
   std::mt19937_64 rng;
+  std::mt19937_64 stream_rng{0x5EED};         // serve_stream's, apart from the server thread's
   std::unique_ptr<net::StreamServer> server;  // last: stopped before the state it serves goes
 
   static TesterPhysics::Params physics_params(const TesterTwinOptions& o) {
@@ -209,6 +211,18 @@ int TesterTwin::connections_accepted() const {
 }
 int TesterTwin::faults_pending() const {
   return impl_->faults.pending();
+}
+
+TesterTwin::StreamReply TesterTwin::serve_stream(std::string_view received) {
+  const RegisterServerState state{*impl_->map, impl_->registers, impl_->state_mutex, impl_->faults,
+                                  impl_->stream_rng};
+  const auto session = make_modbus_tcp_session(state);
+  std::string input(received);
+  std::deque<net::Outgoing> out;
+  StreamReply reply;
+  reply.closed = !session->consume(input, out);
+  for (const auto& o : out) reply.sent += o.bytes;
+  return reply;
 }
 
 }  // namespace tocd::mocks

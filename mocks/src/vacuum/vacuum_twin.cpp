@@ -110,6 +110,7 @@ struct VacuumTwin::Impl {
   std::atomic<bool> stop{false};
   std::thread thread;
   std::mt19937_64 rng{7};
+  std::mt19937_64 frame_rng{11};  // serve_frame's, apart from the server thread's
 
   explicit Impl(VacuumTwinOptions o)
       : opt(std::move(o)),
@@ -219,6 +220,20 @@ void VacuumTwin::inject_seal_loss(bool lost) {
 
 int VacuumTwin::faults_pending() const {
   return impl_->faults.pending();
+}
+
+std::vector<std::uint8_t> VacuumTwin::serve_frame(std::span<const std::uint8_t> frame) {
+  // What libmodbus' RTU receive lets through to the server: whole frames with a good CRC,
+  // addressed to this slave (or broadcast).
+  const std::size_t n = frame.size();
+  if (n < 4 || n > MODBUS_RTU_MAX_ADU_LENGTH) return {};
+  const std::uint16_t crc = modbus_crc16(frame.data(), n - 2);
+  if (frame[n - 2] != (crc & 0xFF) || frame[n - 1] != (crc >> 8)) return {};
+  if (frame[0] != impl_->opt.slave_id && frame[0] != MODBUS_BROADCAST_ADDRESS) return {};
+  const ModbusAnswer a = serve_request(false, frame.data(), static_cast<int>(n), *impl_->map,
+                                       impl_->registers, impl_->state_mutex, impl_->faults, impl_->frame_rng);
+  if (a.kind != ModbusAnswer::Kind::send) return {};
+  return a.bytes;
 }
 
 }  // namespace tocd::mocks

@@ -15,8 +15,9 @@ void validate(const Optics& optics, const std::string& where) {
     throw OpticsError(fmt::format("{}: ambient_n = {} must be > 0", where, optics.ambient_n));
   }
   for (const auto& [id, r] : optics.regions) {
-    auto bad = [&](const char* key, double v, const char* rule) {
-      throw OpticsError(fmt::format("{}: region {}: {} = {} {}", where, id, key, v, rule));
+    // `region = id`: clang 14 cannot capture a structured binding by reference.
+    auto bad = [&, region = id](const char* key, double v, const char* rule) {
+      throw OpticsError(fmt::format("{}: region {}: {} = {} {}", where, region, key, v, rule));
     };
     if (!(r.mu_a_per_mm >= 0.0) || !std::isfinite(r.mu_a_per_mm))
       bad("mu_a", r.mu_a_per_mm, "must be finite and >= 0");

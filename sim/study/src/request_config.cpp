@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include "json_whole_number.hpp"
 #include "material_json.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/sim/geometry/composite.hpp"
@@ -95,14 +96,19 @@ PredictionRequest request_from_config(const nlohmann::json& j) {
     num("thickness_mm", r.thickness_mm);
     if (j.contains("material")) r.material = material_from_json(j.at("material"));
     if (j.contains("optics_model")) r.optics_model = j.at("optics_model").get<std::string>();
-    if (j.contains("photons")) r.photons = j.at("photons").get<std::uint64_t>();
-    if (j.contains("seed")) r.seed = j.at("seed").get<std::uint64_t>();
+    // Ranges as on the command line (docs/security.md).
+    if (j.contains("photons"))
+      r.photons = json_whole_number(j.at("photons"), "prediction config: photons", 1, 1'000'000'000'000);
+    if (j.contains("seed"))
+      r.seed = json_whole_number(j.at("seed"), "prediction config: seed", 0, UINT64_MAX);
     if (j.contains("mesh_preset")) r.mesh_preset = j.at("mesh_preset").get<std::string>();
     if (j.contains("baseline")) r.baseline = j.at("baseline").get<bool>();
     if (j.contains("compressed_optics"))
       r.compressed_optics = region_optics_from_json(j.at("compressed_optics"));
     if (j.contains("graded")) r.graded = graded_from_json(j.at("graded"));
-    if (j.contains("batches")) r.batches = j.at("batches").get<int>();
+    if (j.contains("batches"))
+      r.batches =
+          static_cast<int>(json_whole_number(j.at("batches"), "prediction config: batches", 2, 1'000'000));
     num("max_edge_mm", r.max_edge_mm);
     num("tip_edge_mm", r.tip_edge_mm);
     num("pin_length_mm", r.pin_length_mm);

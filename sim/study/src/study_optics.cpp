@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "json_whole_number.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/sim/geometry/composite.hpp"
 
@@ -125,7 +126,7 @@ GradedOptics graded_from_json(const nlohmann::json& j) {
     g.native = region_optics_from_json(j.at("native"));
     g.cleared = region_optics_from_json(j.at("cleared"));
     g.full_strain = j.at("full_strain").get<double>();
-    g.bins = j.at("bins").get<int>();
+    g.bins = static_cast<int>(json_whole_number(j.at("bins"), "graded optics in config: bins", 1, 1000));
   } catch (const nlohmann::json::exception& e) {
     throw tocd::ConfigError(fmt::format("graded optics in config: {}", e.what()));
   }

@@ -85,6 +85,19 @@ TEST(LabConfig, RoundTripsThroughToml) {
   EXPECT_EQ(b.power_meter->product_id, 0x8078);
 }
 
+// Found by the lab_toml fuzz target: to_toml wrote strings between quotes as they were, so a
+// name with an ESC (or a quote) made a file that parse_lab_config refused, or one with keys
+// the name had smuggled in.
+TEST(LabConfig, RoundTripKeepsQuotesAndControlCharactersInStrings) {
+  LabConfig a = parse_lab_config("[tester]\nhost = \"h\"\n", "lab.toml");
+  a.name = "rig \"1\"\x1b[31m\n[vacuum]\ndevice = \"x\"";
+  a.tester->address.host = "back\\slash";
+  const LabConfig b = parse_lab_config(to_toml(a), "round trip");
+  EXPECT_EQ(b.name, a.name);
+  EXPECT_EQ(b.tester->address.host, "back\\slash");
+  EXPECT_FALSE(b.vacuum);
+}
+
 TEST(LabConfig, ErrorsNameLineAndKey) {
   std::string e = error_of("[tester]\nhost = \"h\"\nport = 99999\n");
   EXPECT_NE(e.find("lab.toml:3"), std::string::npos) << e;

@@ -299,6 +299,27 @@ TEST(StudyConfig, RoundTripsAndRejectsBadRequests) {
   EXPECT_THROW(st::request_from_config(nlohmann::json::array()), tocd::ConfigError);
 }
 
+// Found by the predict_config fuzz target: nlohmann's get<> wrapped -1 photons to 2^64 - 1 and
+// converted a seed beyond 2^64 (read as a double) with undefined behaviour.
+TEST(PredictionConfig, WholeNumbersMustBeWholeAndInRange) {
+  using nlohmann::json;
+  const auto error_of = [](const json& j) {
+    try {
+      (void)st::request_from_config(j);
+    } catch (const tocd::ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(error_of(json{{"photons", -1}}).find("photons must be a whole number from 1 to 1000000000000"),
+            std::string::npos);
+  EXPECT_NE(error_of(json::parse(R"({"seed": 18446744073709551616})")).find("seed"), std::string::npos);
+  EXPECT_NE(error_of(json{{"batches", 1e300}}).find("batches"), std::string::npos);
+  EXPECT_NE(error_of(json{{"batches", 2.5}}).find("batches"), std::string::npos);
+  EXPECT_EQ(st::request_from_config(json{{"photons", 2000.0}}).photons, 2000u);
+  EXPECT_EQ(st::request_from_config(json::parse(R"({"seed": 18446744073709551615})")).seed, UINT64_MAX);
+}
+
 TEST(PredictionConfig, DocumentsInEveryFormTocdlabWritesAreRead) {
   st::PredictionRequest step;
   step.displacement_mm = 0.5;

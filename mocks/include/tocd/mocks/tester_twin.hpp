@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include "tocd/devices/modbus_options.hpp"
 #include "tocd/mocks/modbus_faults.hpp"
@@ -55,6 +56,16 @@ class TesterTwin {
   void set_drive_fault(std::uint16_t code);  ///< latches a fault with this code (clear_fault resets)
   int connections_accepted() const;
   int faults_pending() const;
+
+  /// What the server does with `received` arriving on a fresh connection, without the network.
+  struct StreamReply {
+    std::string sent;     ///< the answers, in order
+    bool closed = false;  ///< the server would close the connection (not Modbus TCP, or a fault)
+  };
+  /// Serves `received` as the bytes of one Modbus TCP connection: the server's own MBAP
+  /// framing and request handling, on the caller's thread (for the fuzz targets and tests).
+  /// An incomplete last frame is left unanswered. Not to be called from two threads at once.
+  StreamReply serve_stream(std::string_view received);
 
  private:
   struct Impl;

@@ -2,7 +2,9 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "tocd/devices/modbus_options.hpp"
 #include "tocd/mocks/modbus_faults.hpp"
@@ -41,6 +43,13 @@ class VacuumTwin {
   void inject(const ModbusFault& fault);
   void inject_seal_loss(bool lost = true);  ///< the chamber seal leaks (or is fixed again)
   int faults_pending() const;
+
+  /// Serves one frame as it would arrive on the serial line (slave id, PDU, CRC low byte
+  /// first), on the caller's thread without the pseudo-terminal (for the fuzz targets and
+  /// tests). Returns the answer frame; empty where the line stays silent: a frame shorter than
+  /// 4 or longer than 256 bytes, a bad CRC, another slave's id, a broadcast. Not to be called
+  /// from two threads at once.
+  std::vector<std::uint8_t> serve_frame(std::span<const std::uint8_t> frame);
 
  private:
   struct Impl;
