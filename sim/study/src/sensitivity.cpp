@@ -82,7 +82,7 @@ std::vector<SensitivityVariant> sensitivity_variants(
   add("optics model", base.optics_model == "graded" ? "threshold" : "graded",
       [](PredictionRequest& r) { r.optics_model = r.optics_model == "graded" ? "threshold" : "graded"; });
   for (const auto& [label, law] : material_laws)
-    add("Ogden law (fit confidence)", label, [&](PredictionRequest& r) { r.material = law; });
+    add("Ogden law (fit confidence)", label, [fitted = law](PredictionRequest& r) { r.material = fitted; });
   return v;
 }
 
