@@ -84,7 +84,7 @@ nlohmann::json to_json(const CompareTable& t) {
                           {"load_N", v(l.load_N)},
                           {"measured_T", v(l.measured_T)},
                           {"predicted_T", v(l.predicted_T)},
-                          {"predicted_T_stderr", v(l.predicted_T_stderr)},
+                          {"predicted_T_se", v(l.predicted_T_stderr)},
                           {"relative_difference", v(l.relative_difference)}});
   }
   return j;
@@ -93,7 +93,7 @@ nlohmann::json to_json(const CompareTable& t) {
 std::string format_compare_csv(const CompareTable& t) {
   auto v = [](double x) { return std::isfinite(x) ? fmt::format("{:.9g}", x) : std::string(); };
   std::string out =
-      "step,displacement_mm,nominal_strain,pressure_kPa,load_N,measured_T,predicted_T,predicted_T_stderr,"
+      "step,displacement_mm,nominal_strain,pressure_kPa,load_N,measured_T,predicted_T,predicted_T_se,"
       "relative_difference,completed\n";
   for (const auto& l : t.lines) {
     const bool pred = l.has_prediction;

@@ -101,8 +101,9 @@ TEST_F(CliRun, RunsCompareExportOnTheSimulatedLab) {
                                 db.string())),
             0)
       << err_;
-  EXPECT_NE(out_.find("step 3/3 recorded"), std::string::npos) << out_;
-  EXPECT_NE(out_.find("run 1 completed"), std::string::npos) << out_;
+  // Progress and how the run ended on stderr; the table on stdout.
+  EXPECT_NE(err_.find("step 3/3 recorded"), std::string::npos) << err_;
+  EXPECT_NE(err_.find("run 1 completed"), std::string::npos) << err_;
   EXPECT_NE(out_.find("measured T"), std::string::npos) << out_;
 
   ASSERT_EQ(tocdlab(fmt::format("compare --db {} --run 1 --json", db.string())), 0) << err_;
@@ -118,7 +119,7 @@ TEST_F(CliRun, RunsCompareExportOnTheSimulatedLab) {
     // Every step predicted by the simulator (T relative to glass only, few photons here).
     ASSERT_FALSE(s["predicted_T"].is_null());
     EXPECT_GT(s["predicted_T"].get<double>(), 0.0);
-    EXPECT_GT(s["predicted_T_stderr"].get<double>(), 0.0);
+    EXPECT_GT(s["predicted_T_se"].get<double>(), 0.0);
   }
   EXPECT_DOUBLE_EQ(j["steps"][1]["nominal_strain"].get<double>(), 0.2);
 
@@ -163,6 +164,7 @@ TEST_F(CliRun, SigintAbortsGracefullyAndTheRunResumes) {
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
   pid_t pid = 0;
   ASSERT_EQ(posix_spawn(&pid, exe.c_str(), &actions, nullptr, args, environ), 0);
   posix_spawn_file_actions_destroy(&actions);
@@ -189,12 +191,12 @@ TEST_F(CliRun, SigintAbortsGracefullyAndTheRunResumes) {
     EXPECT_GT(r.sample_count(r.channel(1, "load")->id), 100);
   }
   // --resume continues the same run; a shorter protocol is not needed: it redoes from step 1
-  // at a fast clock.
+  // at the clock of the other runs here (a faster one outruns a 200 Hz tester poller on a busy machine).
   ASSERT_EQ(
-      tocdlab(fmt::format("run --resume 1 --simulated --no-predict --clock-factor 60 --db {}", db.string())),
+      tocdlab(fmt::format("run --resume 1 --simulated --no-predict --clock-factor 20 --db {}", db.string())),
       0)
       << err_;
-  EXPECT_NE(out_.find("run 1 completed"), std::string::npos) << out_;
+  EXPECT_NE(err_.find("run 1 completed"), std::string::npos) << err_;
   const tocd::db::Reader r(db);
   EXPECT_EQ(r.runs().size(), 1u);
   EXPECT_EQ(r.steps(1).size(), 3u);
@@ -211,6 +213,7 @@ TEST_F(CliRun, AKilledRunIsShownInterruptedByEveryReaderWithoutWritingTheFile) {
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
   pid_t pid = 0;
   ASSERT_EQ(posix_spawn(&pid, exe.c_str(), &actions, nullptr, args, environ), 0);
   posix_spawn_file_actions_destroy(&actions);

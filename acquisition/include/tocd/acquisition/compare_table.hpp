@@ -38,11 +38,11 @@ CompareTable compare_table(const db::Reader& reader, std::int64_t run_id);
 std::string format_compare_table(const CompareTable& table);
 
 /// {"run": {...}, "steps": [{index, displacement_mm, nominal_strain, load_N, measured_T,
-/// predicted_T, predicted_T_stderr, relative_difference}, ...]}; missing values are null.
+/// predicted_T, predicted_T_se, relative_difference}, ...]}; missing values are null.
 nlohmann::json to_json(const CompareTable& table);
 
 /// CSV with a header line (step, displacement_mm, nominal_strain, pressure_kPa, load_N,
-/// measured_T, predicted_T, predicted_T_stderr, relative_difference, completed); empty
+/// measured_T, predicted_T, predicted_T_se, relative_difference, completed); empty
 /// fields where a value is missing.
 std::string format_compare_csv(const CompareTable& table);
 
