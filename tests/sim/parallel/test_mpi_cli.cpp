@@ -89,7 +89,7 @@ TEST_F(MpiCli, StudySweepTableIsTheSameOnOneAndTwoRanks) {
   for (int ranks : {1, 2}) {
     const auto json = dir_ / fmt::format("study{}.json", ranks);
     ASSERT_EQ(shell(fmt::format("{} study sweep --displacements 0.5 --thickness 1.5 --optics native,cleared "
-                                "--photons 15000 --max-edge 1.0 --threads 1 --json {}",
+                                "--photons 15000 --max-edge 1.0 --threads 1 -o {}",
                                 mpirun(ranks), json.string())),
               0)
         << err_;
