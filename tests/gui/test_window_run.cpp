@@ -15,7 +15,6 @@
 #include "backend_run.hpp"
 #include "browser_view.hpp"
 #include "comparison_chart.hpp"
-#include "demo.hpp"
 #include "event_log.hpp"
 #include "instrument_panel.hpp"
 #include "lab_view.hpp"
@@ -46,10 +45,36 @@ class FastPredictor : public acquisition::StepPredictor {
   }
 };
 
-QString short_protocol(const QString& steps) {
-  QString text = demo_protocol_toml(100.0);
-  text.replace(QStringLiteral("[0.25, 0.5, 0.75, 1.0, 1.25, 1.5]"), steps);
-  return text;
+// A short protocol of the window tests' own (the demo protocol's 7 steps with 2 s holds and
+// 5 s windows would make every test a minute long): the given steps, 0.5 s holds, 1 s windows,
+// a 100 Hz tester.
+QString short_protocol(const QString& steps = QStringLiteral("[0.25, 0.5, 0.75, 1.0, 1.25, 1.5]")) {
+  return QStringLiteral(R"(name = "window test pin compression"
+[sample]
+tissue = "simulated skin"
+thickness_mm = 2.5
+[baseline]
+power_W = 1.0e-3
+[motion]
+contact_position_mm = 1.0
+approach_speed_mm_per_s = 0.5
+retract_speed_mm_per_s = 2.0
+[steps]
+displacements_mm = %1
+hold_s = 0.5
+record_s = 1.0
+[settle]
+max_rate = 0.05
+window_s = 0.5
+max_wait_s = 8
+[rates]
+tester_Hz = 100
+power_Hz = 10
+pressure_Hz = 10
+[interlocks]
+max_load_N = 40
+)")
+      .arg(steps);
 }
 
 }  // namespace
@@ -196,7 +221,7 @@ void WindowRunTest::demo_run_fills_the_step_table_from_the_engine() {
 void WindowRunTest::pause_resume_abort_reach_the_engine() {
   auto w = make_window();
   connect_simulated_lab(*w);
-  QVERIFY(w->load_protocol_text(demo_protocol_toml(100.0), QStringLiteral("t")));
+  QVERIFY(w->load_protocol_text(short_protocol(), QStringLiteral("t")));
   QSignalSpy started(w.get(), &MainWindow::run_started);
   QSignalSpy finished(w.get(), &MainWindow::run_finished);
   w->actions().start->trigger();
@@ -233,8 +258,8 @@ void WindowRunTest::bad_files_show_an_error_dialog() {
   QVERIFY(box->isVisible());
   box->close();
   // A protocol with a bad value names the line and key.
-  next_file_ = write(QStringLiteral("bad.toml"), demo_protocol_toml().replace(QStringLiteral("hold_s = 0.5"),
-                                                                              QStringLiteral("hold_s = -1")));
+  next_file_ = write(QStringLiteral("bad.toml"),
+                     short_protocol().replace(QStringLiteral("hold_s = 0.5"), QStringLiteral("hold_s = -1")));
   w->actions().open_protocol->trigger();
   QCOMPARE(w->error_count(), 2);
   QVERIFY2(w->last_error().contains(QStringLiteral("hold_s")), qPrintable(w->last_error()));

@@ -1,9 +1,13 @@
 // Every subcommand with --json writes exactly one valid JSON document on stdout (progress,
 // messages and file names go to stderr), in the naming table of docs/cli.md: 1-based `step`,
 // standard errors as NAME_se. Small inputs keep each case to seconds.
+#include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <string>
+#include <thread>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -153,4 +157,70 @@ TEST_F(CliJson, DemoPrintsItsRunSummary) {
   EXPECT_EQ(j["compare"]["steps"].size(), 2u);
   EXPECT_TRUE(j["compare"]["steps"][1]["predicted_T"].is_number());
   EXPECT_TRUE(fs::exists(dir_ / "demo.csv"));
+}
+
+namespace {
+
+// `tocdlab simlab` in the background for the instrument commands, stopped however the test
+// ends. Its lab config names the ports it serves on.
+class SimlabProcess {
+ public:
+  explicit SimlabProcess(const fs::path& dir) : dir_(dir) {
+    const std::string cmd = fmt::format(
+        "cd '{}' || exit 1; '{}' simlab --write-config lab.toml < /dev/null > simlab.log 2>&1 & echo $! > "
+        "simlab.pid",
+        dir.string(), TOCDLAB_EXE);
+    if (std::system(cmd.c_str()) != 0) return;
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while (tocd::test::slurp(dir / "simlab.log").find("serving until") == std::string::npos) {
+      if (std::chrono::steady_clock::now() > until) return;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    pid_ = std::stoi(tocd::test::slurp(dir / "simlab.pid"));
+  }
+  ~SimlabProcess() {
+    if (pid_ > 0) ::kill(pid_, SIGTERM);
+  }
+  bool serving() const { return pid_ > 0; }
+  /// The power meter's TCP port from the written lab config.
+  int meter_port() const {
+    const std::string lab = tocd::test::slurp(dir_ / "lab.toml");
+    std::smatch m;
+    const std::regex port(R"(\[power_meter\][^\[]*port = (\d+))");
+    return std::regex_search(lab, m, port) ? std::stoi(m[1]) : -1;
+  }
+
+ private:
+  fs::path dir_;
+  int pid_ = -1;
+};
+
+}  // namespace
+
+TEST_F(CliJson, DevicesProbeAndPowermeterReadOnTheSimulatedLab) {
+  const SimlabProcess simlab(dir_);
+  ASSERT_TRUE(simlab.serving()) << tocd::test::slurp(dir_ / "simlab.log");
+  const auto probe = json_of("devices probe --lab lab.toml --json");
+  for (const char* instrument : {"tester", "power_meter", "vacuum"}) {
+    ASSERT_TRUE(probe.contains(instrument)) << probe.dump(2);
+    EXPECT_TRUE(probe[instrument].contains("identity")) << probe[instrument].dump(2);
+  }
+  const int port = simlab.meter_port();
+  ASSERT_GT(port, 0);
+  const auto read = json_of(fmt::format("powermeter read --tcp 127.0.0.1:{} --json", port));
+  for (const char* key : {"vendor", "model", "serial", "sensor", "power_W"})
+    ASSERT_TRUE(read.contains(key)) << key << " missing:\n" << read.dump(2);
+  ASSERT_TRUE(read["power_W"].is_number()) << read.dump(2);
+  // The simulated meter sees the source through the sample: a positive power below the 1 mW source.
+  EXPECT_GT(read["power_W"].get<double>(), 0.0);
+  EXPECT_LT(read["power_W"].get<double>(), 1.0e-3);
+}
+
+TEST_F(CliJson, StudySensitivityListsEveryVariantWithItsError) {
+  const auto j = json_of("study sensitivity --displacement 0.5 --photons 2000 --batches 4 --json");
+  ASSERT_TRUE(j.contains("rows")) << j.dump(2);
+  ASSERT_GE(j["rows"].size(), 2u);
+  for (const auto& row : j["rows"]) {
+    EXPECT_TRUE(row.contains("dT_se")) << row.dump();
+  }
 }

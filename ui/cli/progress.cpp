@@ -144,4 +144,24 @@ ElapsedTicker::~ElapsedTicker() {
   state_->bar.finish();
 }
 
+PhasedProgress::PhasedProgress(std::string uncounted_label, std::string counted_label, std::string unit)
+    : counted_label_(std::move(counted_label)), unit_(std::move(unit)) {
+  ticker_.emplace(std::move(uncounted_label));
+}
+
+void PhasedProgress::update(std::uint64_t done, std::uint64_t total) {
+  std::lock_guard lock(mu_);
+  if (!bar_) {
+    ticker_.reset();  // ends the elapsed-time line before the bar starts
+    bar_.emplace(counted_label_, total, unit_);
+  }
+  bar_->update(done);
+}
+
+void PhasedProgress::finish() {
+  std::lock_guard lock(mu_);
+  ticker_.reset();
+  if (bar_) bar_->finish();
+}
+
 }  // namespace tocd::cli

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <thread>
@@ -78,6 +79,24 @@ class ElapsedTicker {
   struct State;
   std::unique_ptr<State> state_;
   std::thread thread_;
+};
+
+/// A job whose first phase cannot count its work and whose second can (a prediction: FE and
+/// meshing, then photons): elapsed time until the first update(), then a bar with rate and
+/// ETA over the counted phase alone. update() may be called from any thread.
+class PhasedProgress {
+ public:
+  PhasedProgress(std::string uncounted_label, std::string counted_label, std::string unit);
+  PhasedProgress(const PhasedProgress&) = delete;
+  PhasedProgress& operator=(const PhasedProgress&) = delete;
+  void update(std::uint64_t done, std::uint64_t total);
+  void finish();
+
+ private:
+  std::mutex mu_;
+  std::string counted_label_, unit_;
+  std::optional<ElapsedTicker> ticker_;  // until the counted phase starts
+  std::optional<ProgressBar> bar_;       // from then on
 };
 
 /// Run phase timings at debug level (`--log-level debug`): mark() logs the time since the

@@ -12,36 +12,13 @@
 #include "main_window.hpp"
 #include "run_view.hpp"
 #include "step_table_model.hpp"
+#include "tocd/acquisition/lab_session.hpp"
 
 namespace tocd::gui {
 
-QString demo_protocol_toml(double tester_Hz) {
-  return QStringLiteral(R"(name = "demo pin compression"
-[sample]
-tissue = "simulated skin"
-thickness_mm = 2.5
-[baseline]
-power_W = 1.0e-3
-[motion]
-contact_position_mm = 1.0
-approach_speed_mm_per_s = 0.5
-retract_speed_mm_per_s = 2.0
-[steps]
-displacements_mm = [0.25, 0.5, 0.75, 1.0, 1.25, 1.5]
-hold_s = 0.5
-record_s = 1.0
-[settle]
-max_rate = 0.05
-window_s = 0.5
-max_wait_s = 8
-[rates]
-tester_Hz = %1
-power_Hz = 10
-pressure_Hz = 10
-[interlocks]
-max_load_N = 40
-)")
-      .arg(tester_Hz);
+QString demo_protocol_toml() {
+  const std::string_view text = acquisition::demo_protocol_text();
+  return QString::fromUtf8(text.data(), static_cast<qsizetype>(text.size()));
 }
 
 DemoDriver::DemoDriver(MainWindow& window, QString screenshot_path, QObject* parent)

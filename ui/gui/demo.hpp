@@ -9,9 +9,8 @@ namespace tocd::gui {
 
 class MainWindow;
 
-/// The demo pin-compression protocol for the simulated lab (6 steps from contact to
-/// 1.5 mm into a 2.5 mm sample), as TOML.
-QString demo_protocol_toml(double tester_Hz = 200.0);
+/// The one demo protocol (protocols/demo.toml, the text `tocdlab demo` runs), as TOML.
+QString demo_protocol_toml();
 
 /// `tocdlab-gui --demo`: starts the simulated lab, loads the demo protocol, starts the run
 /// through the window's own actions, waits for the run and every prediction, optionally

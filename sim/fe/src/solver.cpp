@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
@@ -160,6 +161,11 @@ void check_inputs(const FeModel& model, const std::vector<double>& d) {
 }  // namespace
 
 FeResult solve(const FeModel& model, const std::vector<double>& displacements_mm) {
+  return solve(model, displacements_mm, {});
+}
+
+FeResult solve(const FeModel& model, const std::vector<double>& displacements_mm,
+               const std::function<void(double)>& on_increment) {
   check_inputs(model, displacements_mm);
   const auto t0 = std::chrono::steady_clock::now();
   const tocd::sim::material::OgdenLaw law(model.material);
@@ -204,6 +210,7 @@ FeResult solve(const FeModel& model, const std::vector<double>& displacements_mm
     dd_prev = dd;
     ++incs_since;
     ++res.total_load_increments;
+    if (on_increment) on_increment(d);
     if (iters <= 5)
       step = std::min(sv.max_step_mm, 1.5 * dd);
     else if (iters >= 12)

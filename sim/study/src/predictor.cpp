@@ -252,6 +252,7 @@ Predictor::Staged Predictor::stage(const PredictionRequest& r) {
   s.threads = r.threads > 0 ? r.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   s.ambient_n = 1.0;
   s.tally_per_tet = !r.fluence_dir.empty();
+  s.progress = r.mc_progress;
   return st;
 }
 

@@ -1,4 +1,5 @@
 // `tocdlab fe`: finite-strain FE of a rigid pin pressed into a skin slab (docs/fe.md).
+#include <cmath>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -65,10 +66,16 @@ void run_fe(const FeOptions& o) {
   m.bottom = fe::parse_bottom(o.bottom);
   m.kinematics = fe::parse_kinematics(o.kinematics);
   const std::vector<double> displacements = parse_list(o.displacements);
+  // Progress counts pin travel in micrometres: the rate and ETA follow the load increments.
   const fe::FeResult r = [&] {
-    const cli::ElapsedTicker ticker(fmt::format("fe: solving {} step(s) to {} mm", displacements.size(),
-                                                displacements.empty() ? 0.0 : displacements.back()));
-    return fe::solve(m, displacements);
+    const double target_mm = displacements.empty() ? 0.0 : displacements.back();
+    cli::ProgressBar bar(fmt::format("fe: {} step(s) to {} mm", displacements.size(), target_mm),
+                         static_cast<std::uint64_t>(std::llround(target_mm * 1000)), "um");
+    fe::FeResult solved = fe::solve(m, displacements, [&bar](double d_mm) {
+      bar.update(static_cast<std::uint64_t>(std::llround(d_mm * 1000)));
+    });
+    bar.finish();
+    return solved;
   }();
   if (!o.vtu.empty())
     for (std::size_t k = 0; k < r.steps.size(); ++k) {

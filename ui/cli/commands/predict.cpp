@@ -133,12 +133,19 @@ void run_predict(PredictOptions o) {
     st::apply_optics(o.compressed, r, label);
   }
   st::Predictor predictor(1, &tocd::sim::parallel::world());  // under mpirun the ranks share the photons
-  // The predictor reports no progress of its own: FE, meshing and Monte Carlo show as elapsed time.
+  // FE and meshing cannot count their work and show as elapsed time; the Monte Carlo then
+  // counts photons (a bar with rate and ETA).
   auto predict = [&](const st::PredictionRequest& q, const char* what) {
-    const bool root = tocd::sim::parallel::world().rank() == 0;
-    std::optional<cli::ElapsedTicker> ticker;
-    if (root) ticker.emplace(fmt::format("predict: {} (FE + mesh + {} photons)", what, q.photons));
-    return predictor.predict(q);
+    if (tocd::sim::parallel::world().rank() != 0) return predictor.predict(q);
+    cli::PhasedProgress progress(fmt::format("predict: {} (FE + mesh)", what),
+                                 fmt::format("predict: {} Monte Carlo", what), "photons");
+    st::PredictionRequest observed = q;
+    observed.mc_progress = [&progress](std::uint64_t done, std::uint64_t total) {
+      progress.update(done, total);
+    };
+    st::Prediction p = predictor.predict(observed);
+    progress.finish();
+    return p;
   };
   const st::Prediction p = predict(r, "step");
   if (!p.fluence.is_null())

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -17,6 +18,10 @@ namespace tocd::sim::fe {
 /// at the smallest increment, an element about to invert) returns complete = false with the
 /// steps reached and a stop_reason saying where and why it stopped.
 FeResult solve(const FeModel& model, const std::vector<double>& displacements_mm);
+/// The same, calling `on_increment` with the pin displacement (mm) after every converged load
+/// increment, so that a caller can show how far the solve has come.
+FeResult solve(const FeModel& model, const std::vector<double>& displacements_mm,
+               const std::function<void(double)>& on_increment);
 
 /// JSON summary (docs/fe.md): model, per-step force, areas, iterations, outlines.
 nlohmann::json to_json(const FeResult& result, bool with_geometry = true);

@@ -62,6 +62,9 @@ struct PredictionRequest {
   /// `fluence_stem` (default "prediction"). Not part of the config.
   std::string fluence_dir, fluence_stem;
   vtk::Format vtu_format = vtk::Format::binary;  ///< of the fluence .vtu; not part of the config
+  /// Called now and then during the Monte Carlo with (photons done, photons asked), as
+  /// mc::RunSettings::progress; FE and meshing come before its first call. Not part of the config.
+  std::function<void(std::uint64_t, std::uint64_t)> mc_progress;
 };
 
 struct Prediction {
