@@ -153,10 +153,7 @@ Engine::~Engine() {
   if (impl_->sequencer.joinable()) {
     if (!is_terminal(state())) abort("engine destroyed while the run was going");
     // Not wait(): it hands a pause back, and abort() has already ended any pause.
-    {
-      std::unique_lock lock(impl_->mu);
-      impl_->cv.wait(lock, [&] { return impl_->finished; });
-    }
+    impl_->control.wait_finished();
     impl_->sequencer.join();
   }
 }
@@ -181,7 +178,7 @@ std::map<std::string, std::string> power_meter_settings(devices::PowerMeter& met
 
 std::int64_t Engine::start(const Protocol& protocol) {
   auto& m = *impl_;
-  if (m.state != EngineState::idle) throw EngineError("this engine already ran; make a new one");
+  if (m.control.state() != EngineState::idle) throw EngineError("this engine already ran; make a new one");
   check_instruments(protocol, m.inst);
   m.protocol = protocol;
   m.baseline_W = protocol.baseline.power_W ? *protocol.baseline.power_W
@@ -246,7 +243,7 @@ std::int64_t Engine::start(const Protocol& protocol) {
 
 std::int64_t Engine::resume(std::int64_t run_id) {
   auto& m = *impl_;
-  if (m.state != EngineState::idle) throw EngineError("this engine already ran; make a new one");
+  if (m.control.state() != EngineState::idle) throw EngineError("this engine already ran; make a new one");
   const db::RunRecord before = m.db.run(run_id);
   if (before.status != db::RunStatus::interrupted && before.status != db::RunStatus::aborted) {
     throw EngineError(fmt::format("run {} is {}: only an interrupted or aborted run can be resumed", run_id,
@@ -344,23 +341,12 @@ void Engine::Impl::start_threads() {
   pollers.emplace_back([this] { guarded(*this, "power meter poller", [this] { run_power_poller(); }); });
   if (inst.vacuum)
     pollers.emplace_back([this] { guarded(*this, "vacuum poller", [this] { run_vacuum_poller(); }); });
-  predictions.start(run_id, [this] {
-    {
-      std::lock_guard lock(mu);
-      finished = true;
-    }
-    cv.notify_all();
-  });
+  predictions.start(run_id, [this] { control.mark_finished(); });
   sequencer = std::thread([this] { run_sequence(); });
 }
 
 void Engine::Impl::set_state(EngineState s, const std::string& why) {
-  {
-    std::lock_guard lock(mu);
-    if (state == s) return;
-    state = s;
-  }
-  cv.notify_all();
+  if (!control.set_state(s, current_step)) return;
   emit_event("state", fmt::format("{}{}{}", to_string(s), why.empty() ? "" : ": ", why), current_step);
   notify([&](EngineObserver& o) { o.on_state(s, why); });
 }
@@ -388,11 +374,9 @@ void Engine::Impl::observer_failed(const char* what) noexcept {
 
 Progress Engine::Impl::make_progress() const {
   Progress p;
-  {
-    std::lock_guard lock(mu);
-    p.state = state;
-  }
-  p.step_index = current_step;
+  const RunControl::Position at = control.position();
+  p.state = at.state;
+  p.step_index = at.step;
   p.step_count = static_cast<int>(protocol.steps.size());
   p.elapsed_s = static_cast<double>(clock.now_ns() - segment_start_ns) * 1e-9;
   // Nominal time of the steps left, scaled by how the finished ones compared to nominal.
@@ -410,69 +394,31 @@ Progress Engine::Impl::make_progress() const {
 }
 
 void Engine::pause() {
-  {
-    std::lock_guard lock(impl_->mu);
-    if (is_terminal(impl_->state) || impl_->state == EngineState::idle) return;
-    impl_->pause_requested = true;
-    impl_->pause_for_fault = false;
-    impl_->pause_reason = "operator pause";
-  }
-  impl_->cv.notify_all();
+  impl_->control.pause_by_operator();
 }
 
 void Engine::resume() {
-  {
-    std::lock_guard lock(impl_->mu);
-    impl_->resume_requested = true;
-  }
-  impl_->cv.notify_all();
+  impl_->control.request_resume();
 }
 
 void Engine::abort(const std::string& reason) {
-  {
-    std::lock_guard lock(impl_->mu);
-    if (impl_->abort_requested) return;
-    impl_->abort_requested = true;
-    impl_->abort_reason = reason;
-  }
-  impl_->cv.notify_all();
+  impl_->control.request_abort(reason);
 }
 
 void Engine::stop_now(const std::string& reason) {
-  impl_->abort_at_once = true;
-  {
-    std::lock_guard lock(impl_->mu);
-    if (!impl_->abort_requested) {
-      impl_->abort_requested = true;
-      impl_->abort_reason = reason;
-    }
-  }
-  impl_->cv.notify_all();
-}
-
-// A paused run goes on only when someone calls resume() or abort(); a caller blocked in
-// wait() is often the only one who could, so wait() hands the pause back instead of blocking
-// for good (a resume already asked for is not a pause any more).
-bool Engine::Impl::waiting_for_operator() const {
-  return state == EngineState::paused && !resume_requested && !abort_requested && !tripped;
+  impl_->control.stop_now(reason);
 }
 
 EngineState Engine::wait() {
-  std::unique_lock lock(impl_->mu);
-  if (impl_->state == EngineState::idle) return impl_->state;
-  impl_->cv.wait(lock, [&] { return impl_->finished || impl_->waiting_for_operator(); });
-  return impl_->state;
+  return impl_->control.wait_finished_or_paused();
 }
 
 bool Engine::wait_for(std::chrono::milliseconds timeout) {
-  std::unique_lock lock(impl_->mu);
-  if (impl_->state == EngineState::idle) return true;
-  return impl_->cv.wait_for(lock, timeout, [&] { return impl_->finished; });
+  return impl_->control.wait_finished_for(timeout);
 }
 
 EngineState Engine::state() const {
-  std::lock_guard lock(impl_->mu);
-  return impl_->state;
+  return impl_->control.state();
 }
 
 std::int64_t Engine::run_id() const {
@@ -493,8 +439,7 @@ EngineStats Engine::stats() const {
 }
 
 std::string Engine::error() const {
-  std::lock_guard lock(impl_->mu);
-  return impl_->error;
+  return impl_->control.error();
 }
 
 }  // namespace tocd::acquisition

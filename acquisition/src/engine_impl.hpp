@@ -1,10 +1,9 @@
 #pragma once
 
-// The run engine's run control (state, requests, trip, under `mu`) and the handles of its
-// owned parts: the Recorder (writer, channels, recording window), the PredictionQueue, the
-// command queues, the StepStrategy of the run, and the instruments' latest readings (atomics,
-// each written by its one poller). engine.cpp (lifecycle), pollers.cpp and
-// instrument_poller.cpp (pollers), sequencer.cpp and step_strategies.cpp (sequencer) use it;
+// The run engine's owned parts: the RunControl (state, requests, trips), the Recorder (writer, channels,
+// recording window), the PredictionQueue, the command queues, the StepStrategy of the run, and the
+// instruments' latest readings (atomics, each written by its one poller). engine.cpp (lifecycle), pollers.cpp
+// and instrument_poller.cpp (pollers), sequencer.cpp and step_strategies.cpp (sequencer) use it;
 // docs/acquisition.md has the table of who owns what.
 
 #include <array>
@@ -24,6 +23,7 @@
 #include "prediction_queue.hpp"
 #include "rate_window.hpp"
 #include "recorder.hpp"
+#include "run_control.hpp"
 #include "running_stats.hpp"
 #include "scaled_clock.hpp"
 #include "step_strategy.hpp"
@@ -32,9 +32,6 @@
 #include "window_check.hpp"
 
 namespace tocd::acquisition {
-
-/// What interrupted a wait of the sequencer, strongest first.
-enum class Interrupt { none, trip, abort, pause };
 
 /// How a move of the pin ended.
 enum class MoveResult { arrived, failed, timed_out, interrupted };
@@ -62,21 +59,7 @@ struct Engine::Impl {
   int first_step = 0;
   Recorder recorder;
 
-  // --- state, requests, interlock flags (guarded by mu) ---
-  mutable std::mutex mu;
-  std::condition_variable cv;
-  EngineState state = EngineState::idle;
-  std::string error;
-  bool pause_requested = false;
-  bool pause_for_fault = false;  // not the operator's: an unattended run ends instead of pausing
-  std::string pause_reason;
-  bool resume_requested = false;
-  bool abort_requested = false;
-  std::string abort_reason;
-  std::atomic<bool> abort_at_once{false};  // second Ctrl-C: stop the pin, no retraction
-  bool tripped = false;
-  std::string trip_reason;
-  bool finished = false;             // acquisition over and every prediction landed
+  RunControl control;
   std::atomic<int> current_step{0};  // read by every thread that records an event
   std::int64_t segment_start_ns = 0;
 
@@ -128,7 +111,6 @@ struct Engine::Impl {
                   const std::string& data_json = "");
   void start_threads();
   Progress make_progress() const;
-  bool waiting_for_operator() const;  // caller holds mu
 
   // pollers.cpp
   void run_tester_poller();
@@ -141,7 +123,6 @@ struct Engine::Impl {
 
   // sequencer.cpp
   void run_sequence();
-  Interrupt pending_interrupt() const;  // caller holds mu
   Interrupt wait_until(double max_sim_s, const std::function<bool()>& done);
   Interrupt run_step(const ProtocolStep& step);
   Interrupt settle_phase(const ProtocolStep& step, db::StepRecord& rec, bool& settled);

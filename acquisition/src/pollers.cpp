@@ -31,29 +31,11 @@ void Engine::Impl::command_failed(const char* instrument, const std::string& wha
 }
 
 void Engine::Impl::trip(const std::string& reason) {
-  bool first = false;
-  {
-    std::lock_guard lock(mu);
-    if (!tripped) {
-      tripped = true;
-      trip_reason = reason;
-      first = true;
-    }
-  }
-  cv.notify_all();
-  if (first) emit_event("interlock", reason, current_step);
+  if (control.trip(reason)) emit_event("interlock", reason, current_step);
 }
 
 void Engine::Impl::request_pause(const std::string& reason) {
-  {
-    std::lock_guard lock(mu);
-    if (pause_requested || state == EngineState::paused) return;
-    pause_requested = true;
-    pause_for_fault = true;
-    pause_reason = reason;
-  }
-  cv.notify_all();
-  emit_event("interlock", reason, current_step);
+  if (control.pause_for_fault(reason)) emit_event("interlock", reason, current_step);
 }
 
 void Engine::Impl::run_tester_poller() {

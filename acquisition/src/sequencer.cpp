@@ -3,6 +3,7 @@
 // interlock trips, and ends the run.
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -15,13 +16,6 @@
 
 namespace tocd::acquisition {
 
-Interrupt Engine::Impl::pending_interrupt() const {
-  if (tripped) return Interrupt::trip;
-  if (abort_requested) return Interrupt::abort;
-  if (pause_requested) return Interrupt::pause;
-  return Interrupt::none;
-}
-
 Interrupt Engine::Impl::wait_until(double max_sim_s, const std::function<bool()>& done) {
   const std::int64_t real_end = monotonic_ns() + clock.real(max_sim_s).count();
   std::int64_t next_progress = 0;
@@ -33,12 +27,10 @@ Interrupt Engine::Impl::wait_until(double max_sim_s, const std::function<bool()>
       next_progress = now + static_cast<std::int64_t>(opt.progress_interval_s * 1e9);
     }
     if (now >= real_end) return Interrupt::none;
-    std::unique_lock lock(mu);
-    if (const auto i = pending_interrupt(); i != Interrupt::none) return i;
     // Short waits: the done() condition is polled, requests wake us at once.
     const auto slice = std::min<std::int64_t>(real_end - now, done ? 2'000'000 : 20'000'000);
-    cv.wait_for(lock, std::chrono::nanoseconds(slice));
-    if (const auto i = pending_interrupt(); i != Interrupt::none) return i;
+    if (const auto i = control.wait_for_request(std::chrono::nanoseconds(slice)); i != Interrupt::none)
+      return i;
   }
 }
 
@@ -52,7 +44,7 @@ void Engine::Impl::send_vacuum(std::string what, std::function<void()> cmd) {
 
 bool Engine::Impl::wait_command(const CommandQueue& q, std::uint64_t id, double max_real_s) {
   const std::int64_t end = monotonic_ns() + static_cast<std::int64_t>(max_real_s * 1e9);
-  while (!q.outcome(id) && !tester_lost && !abort_at_once && monotonic_ns() < end) {
+  while (!q.outcome(id) && !tester_lost && !control.stopping_now() && monotonic_ns() < end) {
     std::this_thread::sleep_for(std::chrono::microseconds(200));
   }
   return q.outcome(id).has_value();
@@ -87,7 +79,7 @@ MoveResult Engine::Impl::move_and_wait(double position_mm, double speed_mm_per_s
     why = wait_until(timeout, settled_fn);
   } else {
     const std::int64_t end = monotonic_ns() + clock.real(timeout).count();
-    while (!settled_fn() && !abort_at_once && !tester_lost && monotonic_ns() < end)
+    while (!settled_fn() && !control.stopping_now() && !tester_lost && monotonic_ns() < end)
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   if (failure) {
@@ -256,14 +248,7 @@ void Engine::Impl::run_sequence() {
         continue;
       }
       if (intr == Interrupt::pause) {
-        std::string reason;
-        bool for_fault = false;
-        {
-          std::lock_guard lock(mu);
-          reason = pause_reason;
-          for_fault = pause_for_fault;
-          resume_requested = false;
-        }
+        const auto [reason, for_fault] = control.take_pause();
         seal_watch = false;
         if (inst.tester && !tester_lost) {
           // "paused" means the pin has stopped: wait (bounded) until its poller has sent the stop.
@@ -278,26 +263,12 @@ void Engine::Impl::run_sequence() {
           break;
         }
         set_state(EngineState::paused, reason + fmt::format("; step {} will be redone", i + 1));
-        std::unique_lock lock(mu);
-        cv.wait(lock, [&] { return resume_requested || abort_requested || tripped; });
-        if (resume_requested && !abort_requested && !tripped) {
-          pause_requested = false;
-          pause_for_fault = false;
-          resume_requested = false;
-          lock.unlock();
+        if (control.wait_for_resume()) {
           emit_event("operator", fmt::format("resumed; redoing step {}", i + 1), static_cast<int>(i));
           continue;
         }
-        lock.unlock();
       }
-      std::lock_guard lock(mu);
-      if (tripped) {
-        final_state = EngineState::interrupted;
-        why = trip_reason;
-      } else {
-        final_state = EngineState::aborted;
-        why = abort_reason;
-      }
+      std::tie(final_state, why) = control.stop_reason();
       break;
     }
   } catch (const std::exception& e) {
@@ -317,8 +288,8 @@ void Engine::Impl::finish(EngineState final_state, std::string why) {
                  current_step);
     } else if (inst.tester) {
       load_interlock_armed = false;  // backing off lowers the load; do not stop the retraction
-      const bool retract =
-          (final_state != EngineState::interrupted || protocol.interlocks.retract_on_trip) && !abort_at_once;
+      const bool retract = (final_state != EngineState::interrupted || protocol.interlocks.retract_on_trip) &&
+                           !control.stopping_now();
       const std::uint64_t stop_cmd = send_tester("stop", [this] { inst.tester->stop(); });
       if (tester_limit_latched && retract) {
         // The tester stopped itself at its limit and refuses moves until cleared; backing off
@@ -331,13 +302,14 @@ void Engine::Impl::finish(EngineState final_state, std::string why) {
         if (move_and_wait(0.0, protocol.retract_speed_mm_per_s, false, ignored, problem) !=
             MoveResult::arrived) {
           emit_event("fault",
-                     abort_at_once ? "retraction cut short by a second abort: the pin was stopped where it is"
-                                   : "pin did not reach home after the run; check the tester" +
-                                         (problem.empty() ? std::string() : ": " + problem),
+                     control.stopping_now()
+                         ? "retraction cut short by a second abort: the pin was stopped where it is"
+                         : "pin did not reach home after the run; check the tester" +
+                               (problem.empty() ? std::string() : ": " + problem),
                      current_step);
-          if (abort_at_once) send_tester("stop", [this] { inst.tester->stop(); });
+          if (control.stopping_now()) send_tester("stop", [this] { inst.tester->stop(); });
         }
-      } else if (abort_at_once) {
+      } else if (control.stopping_now()) {
         wait_command(tester_cmds, stop_cmd, 2.0);
         emit_event("operator",
                    fmt::format("stopped at once: the pin is left at {:.4f} mm (not retracted)",
@@ -351,7 +323,7 @@ void Engine::Impl::finish(EngineState final_state, std::string why) {
         inst.vacuum->run_pump(false);
         inst.vacuum->set_vent(true);
       });
-      if (!abort_at_once) stop_pollers.sleep_for(clock.real(3.0 / protocol.rates.pressure_Hz));
+      if (!control.stopping_now()) stop_pollers.sleep_for(clock.real(3.0 / protocol.rates.pressure_Hz));
     }
   } catch (const std::exception& e) {
     emit_event("fault", fmt::format("while ending the run: {}", e.what()), current_step);
@@ -373,10 +345,7 @@ void Engine::Impl::finish(EngineState final_state, std::string why) {
         lost, dropped, ws.failed_samples, ws.last_error.empty() ? "" : ": " + ws.last_error);
     emit_event("fault", why, current_step);
   }
-  {
-    std::lock_guard lock(mu);
-    if (final_state == EngineState::interrupted || final_state == EngineState::failed) error = why;
-  }
+  if (final_state == EngineState::interrupted || final_state == EngineState::failed) control.set_error(why);
   const db::RunStatus status = final_state == EngineState::completed ? db::RunStatus::completed
                                : final_state == EngineState::aborted ? db::RunStatus::aborted
                                                                      : db::RunStatus::interrupted;

@@ -255,8 +255,13 @@ TEST_P(FaultMatrix, NoStepIsCompletedAtAWrongPositionOrFromAFaultyWindow) {
     const int at_step = cell.armed_before_move ? 0 : 1;
     const EngineState at_state = cell.armed_before_move ? EngineState::recording : state_of(cell.phase);
     if (!cell.storage) {
+      // One snapshot: the step and the state it is in.
       ASSERT_TRUE(eventually(
-          [&] { return engine.progress().step_index == at_step && engine.state() == at_state; }, 60.0));
+          [&] {
+            const Progress p = engine.progress();
+            return p.step_index == at_step && p.state == at_state;
+          },
+          60.0));
     }
     cell.inject(rig);
     // It recovers (and re-records), pauses, or ends interrupted. A pause is resumed (after the
