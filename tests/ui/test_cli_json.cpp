@@ -224,3 +224,14 @@ TEST_F(CliJson, StudySensitivityListsEveryVariantWithItsError) {
     EXPECT_TRUE(row.contains("dT_se")) << row.dump();
   }
 }
+
+TEST_F(CliJson, StudyPaperJsonIsWhatPlotStudyReads) {
+  const auto j = json_of("study paper --photons 200 --batches 2 --mesh fast --max-edge 1.0 --json");
+  ASSERT_TRUE(j.is_object());
+  std::ofstream(dir_ / "paper.json") << j.dump();
+  const auto plot =
+      run_cli(TOCDLAB_EXE, "plot study paper.json --column T -o bars.svg", dir_, "QT_QPA_PLATFORM=offscreen");
+  EXPECT_EQ(plot.status, 0) << plot.err;
+  EXPECT_TRUE(fs::exists(dir_ / "bars.svg"));
+  EXPECT_TRUE(plot.out.empty()) << "plot writes a file, not stdout: " << plot.out;
+}

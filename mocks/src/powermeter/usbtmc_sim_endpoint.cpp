@@ -15,6 +15,10 @@ namespace {
 using devices::UsbStatus;
 using devices::UsbTransfer;
 constexpr std::uint8_t out_ep = 0x02, in_ep = 0x81, iface = 0;
+/// A command message (all transfers up to EOM) longer than this stalls the endpoint: the same
+/// cap as a line over TCP (ServerLimits::max_request_bytes), so that a host that never sends
+/// EOM cannot grow the meter's memory without bound.
+constexpr std::size_t kMaxMessageBytes = 64 * 1024;
 
 std::uint32_t le32(const std::uint8_t* p) {
   return p[0] | (p[1] << 8) | (p[2] << 16) | (static_cast<std::uint32_t>(p[3]) << 24);
@@ -61,6 +65,10 @@ class SimUsbEndpoint final : public devices::UsbBulkEndpoint {
           fmt::format("TransferSize {} needs a {}-byte transfer, got {} bytes", size, expected, t.size()));
     for (std::size_t i = 12 + size; i < t.size(); ++i)
       if (t[i] != 0) return reject(fmt::format("padding byte {} is not zero", i));
+    if (message_.size() + size > kMaxMessageBytes) {
+      message_.clear();  // the whole message is refused, not just this transfer
+      return reject(fmt::format("message longer than {} bytes without end-of-message", kMaxMessageBytes));
+    }
     last_out_tag_ = t[1];
     message_.append(reinterpret_cast<const char*>(t.data() + 12), size);
     if (t[8] & 0x01) {  // EOM: the message is complete

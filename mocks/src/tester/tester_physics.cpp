@@ -99,10 +99,13 @@ void TesterPhysics::clear_fault() {
   fault_code_ = m::fault_none;
 }
 
+bool TesterPhysics::limits_acceptable(double max_travel_mm, double max_load_N) const {
+  return std::isfinite(max_travel_mm) && std::isfinite(max_load_N) && max_travel_mm > 0.0 &&
+         max_load_N > 0.0 && max_travel_mm <= p_.travel_range_mm && max_load_N <= p_.load_capacity_N;
+}
+
 int TesterPhysics::set_limits(double max_travel_mm, double max_load_N) {
-  if (!std::isfinite(max_travel_mm) || !std::isfinite(max_load_N) || max_travel_mm <= 0.0 ||
-      max_load_N <= 0.0)
-    return 3;
+  if (!limits_acceptable(max_travel_mm, max_load_N)) return 3;
   p_.max_travel_mm = max_travel_mm;
   p_.max_load_N = max_load_N;
   return 0;

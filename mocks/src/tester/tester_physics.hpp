@@ -18,6 +18,9 @@ class TesterPhysics {
     double contact_position_mm = 1.0;
     double max_travel_mm = 10.0;
     double max_load_N = 50.0;
+    /// The frame's stroke and the load cell's capacity: no limit can be set beyond them.
+    double travel_range_mm = 100.0;
+    double load_capacity_N = 500.0;
     double load_noise_N = 0.002;
     double load_cell_offset_N = 0.05;  ///< what the cell reads unloaded before a tare
     double relaxation_fraction = 0.3;
@@ -38,6 +41,8 @@ class TesterPhysics {
   void tare();
   void clear_fault();
   int set_limits(double max_travel_mm, double max_load_N);
+  /// Finite, positive and within the travel range and the load cell's capacity.
+  bool limits_acceptable(double max_travel_mm, double max_load_N) const;
   void trip_load_limit();
   void set_drive_fault(std::uint16_t code);
 

@@ -52,7 +52,7 @@ class TesterRegisters final : public RegisterDevice {
     if (w.touched_float(m::hr_max_travel) || w.touched_float(m::hr_max_load)) {
       const float travel = get_float(hr.data(), m::hr_max_travel);
       const float load = get_float(hr.data(), m::hr_max_load);
-      if (!std::isfinite(travel) || !std::isfinite(load) || travel <= 0 || load <= 0) return 3;
+      if (!physics_.limits_acceptable(travel, load)) return 3;
     }
     if (!w.touched(m::hr_command)) return 0;
     const std::uint16_t cmd = hr[m::hr_command];

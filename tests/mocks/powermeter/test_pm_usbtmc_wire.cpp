@@ -152,6 +152,35 @@ TEST(UsbtmcWire, TheDeviceStallsOnEveryFramingDefect) {
   EXPECT_EQ(buf, cat(header(2, 8, 2, 1), "1\n", 16));
 }
 
+// A host that never sends end-of-message cannot grow the device's memory without bound: past
+// 64 KiB the message is refused with a stall, and the endpoint works again after the clear.
+TEST(UsbtmcWire, AMessageWithoutEndOfMessageIsCappedAt64KiB) {
+  tocd::mocks::PowerMeterTwin twin;
+  const auto ep = twin.open_usb_endpoint();
+  const std::string chunk(252, 'x');
+  std::size_t accepted = 0;
+  UsbTransfer r;
+  for (int i = 0; i < 1000; ++i) {
+    r = ep->bulk_out(cat(header(1, static_cast<std::uint8_t>(i % 254 + 1), 252, 0), chunk, 264),
+                     std::chrono::milliseconds{50});
+    if (r.status != UsbStatus::ok) break;
+    accepted += chunk.size();
+  }
+  EXPECT_EQ(r.status, UsbStatus::stall);
+  EXPECT_NE(r.detail.find("without end-of-message"), std::string::npos) << r.detail;
+  EXPECT_LE(accepted, std::size_t{64 * 1024});
+  EXPECT_GT(accepted + chunk.size(), std::size_t{64 * 1024});  // refused only past the cap
+  ep->clear_halt(ep->bulk_out_address());
+  ASSERT_EQ(ep->bulk_out(cat(header(1, 7, 6, 1), "*OPC?\n", 20), std::chrono::milliseconds{50}).status,
+            UsbStatus::ok);
+  ASSERT_EQ(ep->bulk_out(header(2, 8, 64, 0), std::chrono::milliseconds{50}).status, UsbStatus::ok);
+  Bytes buf(80);
+  const auto in = ep->bulk_in(buf, std::chrono::milliseconds{100});
+  ASSERT_EQ(in.status, UsbStatus::ok);
+  buf.resize(in.length);
+  EXPECT_EQ(buf, cat(header(2, 8, 2, 1), "1\n", 16));
+}
+
 TEST(UsbtmcWire, ControlRequestsAnswerPerTheSpec) {
   tocd::mocks::PowerMeterTwin twin;
   const auto ep = twin.open_usb_endpoint();

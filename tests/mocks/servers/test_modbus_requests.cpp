@@ -103,6 +103,23 @@ TEST_F(ModbusRequests, SingleRegisterWriteOfANanLimitIsRefusedLikeAMultipleWrite
   EXPECT_FLOAT_EQ(load_limit(), 50.0f);
 }
 
+// Limits beyond the frame's stroke (100 mm) or the load cell's capacity (500 N) are refused
+// like a NaN: a limit the hardware cannot honour would be a limit in name only.
+TEST_F(ModbusRequests, LimitsBeyondTheStrokeOrTheCellCapacityAreRefused) {
+  const auto far = tocd::devices::float_to_registers(1e30f);
+  EXPECT_EQ(call({0x10, 0, m::hr_max_travel, 0, 2, 4, hi(far[0]), lo(far[0]), hi(far[1]), lo(far[1])}),
+            exception(0x10, 3));
+  const auto heavy = tocd::devices::float_to_registers(501.0f);
+  EXPECT_EQ(call({0x10, 0, m::hr_max_load, 0, 2, 4, hi(heavy[0]), lo(heavy[0]), hi(heavy[1]), lo(heavy[1])}),
+            exception(0x10, 3));
+  EXPECT_FLOAT_EQ(load_limit(), 50.0f);
+  // At the capacity itself the write is taken.
+  const auto full = tocd::devices::float_to_registers(500.0f);
+  EXPECT_EQ(call({0x10, 0, m::hr_max_load, 0, 2, 4, hi(full[0]), lo(full[0]), hi(full[1]), lo(full[1])}),
+            (Pdu{0x10, 0, m::hr_max_load, 0, 2}));
+  EXPECT_FLOAT_EQ(load_limit(), 500.0f);
+}
+
 // A single-register write of the load limit's high word used to be stored but never reach the
 // physics. Now a 1 N limit written with 0x06 trips when the pin presses into the sample.
 TEST_F(ModbusRequests, SingleRegisterWriteOfALimitIsApplied) {

@@ -192,9 +192,11 @@ void install_plot(CLI::App& root) {
   });
 
   auto* study =
-      cmd->add_subcommand("study", "A study's bar chart from its JSON (tocdlab study ... --json FILE)");
+      cmd->add_subcommand("study", "A study's bar chart from its JSON (tocdlab study ... --json > FILE)");
   add_common(study, *o);
-  study->add_option("--json", o->study_json, "the study's JSON output")->required();
+  // The study's JSON is an input, named like the other figures' inputs: --json means "print
+  // JSON" everywhere else.
+  study->add_option("study", o->study_json, "the study's JSON output (tocdlab study ... --json)")->required();
   study->add_option("--column", o->column, "what the bars show: T, T_rel_a, T_rel_b, side_loss, ...")
       ->capture_default_str();
   study->callback([o] {
