@@ -56,6 +56,18 @@ auto deadline() {
   return Clock::now() + std::chrono::seconds{2};
 }
 
+/// `*OPC?` sent and its answer `1` read back, transfer for transfer: the endpoint works.
+void expect_opc_answered(UsbBulkEndpoint& ep) {
+  ASSERT_EQ(ep.bulk_out(cat(header(1, 7, 6, 1), "*OPC?\n", 20), std::chrono::milliseconds{50}).status,
+            UsbStatus::ok);
+  ASSERT_EQ(ep.bulk_out(header(2, 8, 64, 0), std::chrono::milliseconds{50}).status, UsbStatus::ok);
+  Bytes buf(80);
+  const auto r = ep.bulk_in(buf, std::chrono::milliseconds{100});
+  ASSERT_EQ(r.status, UsbStatus::ok);
+  buf.resize(r.length);
+  EXPECT_EQ(buf, cat(header(2, 8, 2, 1), "1\n", 16));
+}
+
 }  // namespace
 
 TEST(UsbtmcWire, ExactBytesOfARequestAndAMultiTransferResponse) {
@@ -142,14 +154,7 @@ TEST(UsbtmcWire, TheDeviceStallsOnEveryFramingDefect) {
   send(header(2, 6, 64, 0x02), "TermChar");
   EXPECT_EQ(twin.stats().usb_rejected, 9);
   // After the clears, a well-formed exchange works on the same endpoint.
-  ASSERT_EQ(ep->bulk_out(cat(header(1, 7, 6, 1), "*OPC?\n", 20), std::chrono::milliseconds{50}).status,
-            UsbStatus::ok);
-  ASSERT_EQ(ep->bulk_out(header(2, 8, 64, 0), std::chrono::milliseconds{50}).status, UsbStatus::ok);
-  Bytes buf(80);
-  const auto r = ep->bulk_in(buf, std::chrono::milliseconds{100});
-  ASSERT_EQ(r.status, UsbStatus::ok);
-  buf.resize(r.length);
-  EXPECT_EQ(buf, cat(header(2, 8, 2, 1), "1\n", 16));
+  expect_opc_answered(*ep);
 }
 
 // A host that never sends end-of-message cannot grow the device's memory without bound: past
@@ -171,14 +176,7 @@ TEST(UsbtmcWire, AMessageWithoutEndOfMessageIsCappedAt64KiB) {
   EXPECT_LE(accepted, std::size_t{64 * 1024});
   EXPECT_GT(accepted + chunk.size(), std::size_t{64 * 1024});  // refused only past the cap
   ep->clear_halt(ep->bulk_out_address());
-  ASSERT_EQ(ep->bulk_out(cat(header(1, 7, 6, 1), "*OPC?\n", 20), std::chrono::milliseconds{50}).status,
-            UsbStatus::ok);
-  ASSERT_EQ(ep->bulk_out(header(2, 8, 64, 0), std::chrono::milliseconds{50}).status, UsbStatus::ok);
-  Bytes buf(80);
-  const auto in = ep->bulk_in(buf, std::chrono::milliseconds{100});
-  ASSERT_EQ(in.status, UsbStatus::ok);
-  buf.resize(in.length);
-  EXPECT_EQ(buf, cat(header(2, 8, 2, 1), "1\n", 16));
+  expect_opc_answered(*ep);
 }
 
 TEST(UsbtmcWire, ControlRequestsAnswerPerTheSpec) {
