@@ -30,6 +30,14 @@ DemoDriver::DemoDriver(MainWindow& window, QString screenshot_path, QObject* par
   connect(run, &RunBackend::prediction_arrived, this, [](int step, double T, double err) {
     std::fprintf(stderr, "demo: step %d predicted: T = %.4f +/- %.4f\n", step + 1, T, err);
   });
+  // Nobody is there to resume a paused demo run: it ends it, and the demo fails.
+  connect(run, &RunBackend::state_changed, this,
+          [this, run](acquisition::EngineState state, const QString& why) {
+            if (state != acquisition::EngineState::paused) return;
+            std::fprintf(stderr, "demo: the run paused (%s); aborting it\n", qPrintable(why));
+            paused_ = true;
+            run->abort();
+          });
   connect(run, &RunBackend::failed, this, [this](const QString& action, const QString& message) {
     std::fprintf(stderr, "demo: %s: %s\n", qPrintable(action), qPrintable(message));
     emit done(1);
@@ -59,7 +67,7 @@ void DemoDriver::on_lab_ready() {
 void DemoDriver::on_finished(acquisition::EngineState state) {
   const StepTableModel* steps = window_.run_view()->steps();
   const bool want_predictions = StudyBackend::available();
-  bool ok = state == acquisition::EngineState::completed && steps->rowCount() > 0;
+  bool ok = !paused_ && state == acquisition::EngineState::completed && steps->rowCount() > 0;
   for (const StepRow& r : steps->rows()) {
     ok = ok && std::isfinite(r.measured_T) && (!want_predictions || r.predicted_T.has_value());
   }

@@ -34,6 +34,7 @@ class DemoDriver : public QObject {
   MainWindow& window_;
   QString screenshot_;
   bool started_ = false;
+  bool paused_ = false;  ///< the run paused on a fault: the demo has failed
 };
 
 }  // namespace tocd::gui
