@@ -6,6 +6,7 @@ bool RunControl::set_state(EngineState s, int step) {
   {
     std::lock_guard lock(mu_);
     step_ = step;
+    resumed_ = false;  // the sequencer has moved on from its pause (or taken a new one)
     if (state_ == s) return false;
     state_ = s;
   }
@@ -124,6 +125,7 @@ bool RunControl::wait_for_resume() {
   cv_.wait(lock, [&] { return resume_requested_ || abort_requested_ || tripped_; });
   if (!resume_requested_ || abort_requested_ || tripped_) return false;
   pause_requested_ = pause_for_fault_ = resume_requested_ = false;
+  resumed_ = true;
   return true;
 }
 
@@ -143,9 +145,9 @@ void RunControl::mark_finished() {
 
 // A paused run goes on only when someone calls resume() or abort(); a caller blocked in
 // wait() is often the only one who could, so wait() hands the pause back instead of blocking
-// for good (a resume already asked for is not a pause any more).
+// for good (a resume already asked for, or taken but not yet acted on, is not a pause any more).
 bool RunControl::waiting_for_operator() const {
-  return state_ == EngineState::paused && !resume_requested_ && !abort_requested_ && !tripped_;
+  return state_ == EngineState::paused && !resume_requested_ && !resumed_ && !abort_requested_ && !tripped_;
 }
 
 EngineState RunControl::wait_finished_or_paused() {

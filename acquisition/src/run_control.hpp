@@ -85,6 +85,9 @@ class RunControl {
   int step_ = 0;
   std::string error_;
   bool pause_requested_ = false, pause_for_fault_ = false, resume_requested_ = false;
+  // The sequencer took the resume and has not yet set its next state: the run is still
+  // `paused` on paper but nobody has to resume it again.
+  bool resumed_ = false;
   std::string pause_reason_;
   bool abort_requested_ = false;
   std::string abort_reason_;
