@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "backend_db.hpp"
+#include "predicted_run.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/writer.hpp"
 
@@ -21,6 +22,8 @@ class RunBrowserTest : public QObject {
   void lists_and_loads_a_run();
   void exports_csv();
   void refuses_corrupt_and_foreign_files();
+  void fits_the_law_of_a_run_on_its_own_worker();
+  void a_fit_that_cannot_be_made_is_reported();
 
  private:
   QTemporaryDir dir_;
@@ -168,6 +171,69 @@ void RunBrowserTest::refuses_corrupt_and_foreign_files() {
   QVERIFY(f.open(QIODevice::ReadOnly));
   QCOMPARE(f.readAll(), QByteArray(4096, 'x'));
   QVERIFY(!QFile::exists(missing));
+}
+
+// The published law from a fit file re-makes the stored predictions exactly (same configs, same
+// seeds): the view's points are the database's T, with a band of zero width.
+void RunBrowserTest::fits_the_law_of_a_run_on_its_own_worker() {
+  const QString path = dir_.filePath(QStringLiteral("predicted.tocdlab"));
+  const auto run = acquisition::testing::write_predicted_run(path.toStdString());
+  const QString fit = dir_.filePath(QStringLiteral("fit.json"));
+  {
+    QFile f(fit);
+    QVERIFY(f.open(QIODevice::WriteOnly));
+    f.write(QByteArray::fromStdString(acquisition::testing::scaled_fit_json(1.0, {1.0})));
+  }
+  RunBrowserBackend backend;
+  QSignalSpy opened(&backend, &RunBrowserBackend::database_opened);
+  backend.open_database(path);
+  QVERIFY(opened.wait(10000));
+  QSignalSpy fitted(&backend, &RunBrowserBackend::law_fitted);
+  QSignalSpy progress(&backend, &RunBrowserBackend::fit_progress);
+  QSignalSpy failed(&backend, &RunBrowserBackend::failed);
+  backend.fit_law(run, fit);
+  QVERIFY(backend.fitting());
+  // Browsing goes on while the fit runs.
+  QSignalSpy loaded(&backend, &RunBrowserBackend::run_loaded);
+  backend.load_run(run);
+  QVERIFY(loaded.wait(20000));
+  QVERIFY(fitted.wait(300000));
+  QCOMPARE(failed.count(), 0);
+  QVERIFY(!backend.fitting());
+  QCOMPARE(progress.count(), 2);  // one line per re-predicted step
+  const auto view = fitted.at(0).at(0).value<gui::FittedLawView>();
+  QCOMPARE(view.run_id, run);
+  QVERIFY(view.summary.contains(QStringLiteral("1 confidence laws")));
+  db::Reader reader(path.toStdString());
+  const auto compare = reader.compare(run);
+  QCOMPARE(view.points.size(), compare.size());
+  for (std::size_t i = 0; i < compare.size(); ++i) {
+    const auto& p = view.points[i];
+    QVERIFY(compare[i].prediction.has_value());
+    QCOMPARE(p.step, compare[i].step.index);
+    QCOMPARE(p.nominal_strain, compare[i].step.nominal_strain);
+    QCOMPARE(p.T, compare[i].prediction->T);
+    QCOMPARE(p.T_stderr, compare[i].prediction->T_stderr);
+    QCOMPARE(p.band_lo, p.T);
+    QCOMPARE(p.band_hi, p.T);
+  }
+}
+
+// A fit file that is not there: the fit ends in failed(), naming the run and the file, and the
+// backend is free for the next one.
+void RunBrowserTest::a_fit_that_cannot_be_made_is_reported() {
+  RunBrowserBackend backend;
+  QSignalSpy opened(&backend, &RunBrowserBackend::database_opened);
+  backend.open_database(db_path_);
+  QVERIFY(opened.wait(10000));
+  QSignalSpy failed(&backend, &RunBrowserBackend::failed);
+  QSignalSpy fitted(&backend, &RunBrowserBackend::law_fitted);
+  backend.fit_law(run_id_, dir_.filePath(QStringLiteral("no_such_fit.json")));
+  QVERIFY(failed.wait(20000));
+  QCOMPARE(fitted.count(), 0);
+  QVERIFY(failed.at(0).at(0).toString().contains(QString::number(run_id_)));
+  QVERIFY(failed.at(0).at(1).toString().contains(QStringLiteral("no_such_fit.json")));
+  QVERIFY(!backend.fitting());
 }
 
 QTEST_GUILESS_MAIN(RunBrowserTest)

@@ -1,10 +1,13 @@
+#include <QChart>
 #include <QLineSeries>
 #include <QMainWindow>
+#include <QPushButton>
 #include <QTemporaryDir>
 #include <QTest>
 #include <QValueAxis>
 #include <cmath>
 
+#include "browser_view.hpp"
 #include "colour_map.hpp"
 #include "comparison_chart.hpp"
 #include "event_log.hpp"
@@ -22,6 +25,8 @@ class WidgetsTest : public QObject {
   void live_chart_decimates_a_1khz_stream();
   void live_chart_scrolls_a_time_window();
   void comparison_chart_fills_in();
+  void comparison_chart_draws_a_fitted_law_with_two_bands();
+  void browser_draws_a_fit_only_on_its_own_run();
   void colour_map_shares_one_log_scale();
   void colour_map_orientation_and_no_data();
   void event_log_is_bounded();
@@ -90,6 +95,67 @@ void WidgetsTest::comparison_chart_fills_in() {
   chart.clear();
   QVERIFY(chart.measured_points().empty());
   QVERIFY(chart.error_bars().empty());
+}
+
+void WidgetsTest::comparison_chart_draws_a_fitted_law_with_two_bands() {
+  ComparisonChart chart;
+  chart.set_measured(0, 0.2, 0.50);
+  chart.set_predicted(0, 0.2, 0.46, 0.01);
+  QVERIFY(chart.fitted_points().empty() && chart.model_bands().empty());
+  chart.set_fitted(0, 0.2, 0.55, 0.012, 0.58, 0.53);  // band ends in either order
+  chart.set_fitted(1, 0.4, 0.70, 0.02, 0.66, 0.75);
+  QCOMPARE(chart.fitted_points().size(), std::size_t{2});
+  QCOMPARE(chart.fitted_points()[0].y(), 0.55);
+  const auto mc = chart.fitted_error_bars();
+  const auto band = chart.model_bands();
+  QCOMPARE(mc.size(), std::size_t{2});
+  QCOMPARE(band.size(), std::size_t{2});
+  QVERIFY(std::abs(mc[0].lo - 0.538) < 1e-12 && std::abs(mc[0].hi - 0.562) < 1e-12);
+  QCOMPARE(band[0].x, 0.2);
+  QCOMPARE(band[0].lo, 0.53);
+  QCOMPARE(band[0].hi, 0.58);
+  QCOMPARE(band[1].hi, 0.75);
+  // The axis takes in the whole band.
+  QVERIFY(chart.chart()->axes(Qt::Vertical).front()->property("max").toDouble() >= 0.75);
+  // The stored predictions keep their own bars; clearing the fit leaves them.
+  QCOMPARE(chart.error_bars().size(), std::size_t{1});
+  chart.clear_fitted();
+  QVERIFY(chart.fitted_points().empty() && chart.model_bands().empty() && chart.fitted_error_bars().empty());
+  QCOMPARE(chart.predicted_points().size(), std::size_t{1});
+}
+
+void WidgetsTest::browser_draws_a_fit_only_on_its_own_run() {
+  BrowserView view;
+  RunDetails d;
+  d.listing.id = 7;
+  StepRow r;
+  r.step = 0;
+  r.nominal_strain = 0.2;
+  r.measured_T = 0.5;
+  d.rows.push_back(r);
+  view.show_run(d);
+  QVERIFY(view.fit_button()->isEnabled());
+  FittedLawView other;
+  other.run_id = 8;
+  other.points.push_back({0, 0.2, 0.6, 0.01, 0.55, 0.65});
+  view.show_fitted(other);  // arrived after the user moved to run 7
+  QVERIFY(view.comparison()->fitted_points().empty());
+  FittedLawView mine = other;
+  mine.run_id = 7;
+  mine.summary = QStringLiteral("published law x 1.6");
+  view.set_fitting(true);
+  QVERIFY(!view.fit_button()->isEnabled());
+  view.set_fitting(false);
+  view.show_fitted(mine);
+  QCOMPARE(view.comparison()->fitted_points().size(), std::size_t{1});
+  QVERIFY(view.fit_text().contains(QStringLiteral("x 1.6")));
+  // Reloading the same run keeps its fit; another run drops it.
+  view.show_run(d);
+  QCOMPARE(view.comparison()->model_bands().size(), std::size_t{1});
+  d.listing.id = 9;
+  view.show_run(d);
+  QVERIFY(view.comparison()->fitted_points().empty());
+  QVERIFY(view.fit_text().isEmpty());
 }
 
 namespace {

@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "background.hpp"
+#include "tocd/acquisition/fitted_comparison.hpp"
 #include "tocd/db/export.hpp"
 
 namespace tocd::gui {
@@ -103,14 +104,17 @@ RunDetails read_run_details(const db::Reader& reader, std::int64_t run_id, std::
   return d;
 }
 
-RunBrowserBackend::RunBrowserBackend(QObject* parent) : QObject(parent), tasks_(new TaskRunner(this)) {}
+RunBrowserBackend::RunBrowserBackend(QObject* parent)
+    : QObject(parent), tasks_(new TaskRunner(this)), fits_(new TaskRunner(this)) {}
 
 RunBrowserBackend::~RunBrowserBackend() {
   tasks_->wait();
+  fits_->wait();
 }
 
 void RunBrowserBackend::wait() {
   tasks_->wait();
+  fits_->wait();
 }
 
 void RunBrowserBackend::open_database(const QString& path) {
@@ -174,6 +178,45 @@ void RunBrowserBackend::export_csv(std::int64_t run_id, const QString& path) {
       },
       [this](QString& p) { emit exported(p); },
       [this, run_id](const QString& message) { emit failed(tr("Exporting run %1").arg(run_id), message); });
+}
+
+bool RunBrowserBackend::fitting() const {
+  return fits_->in_flight() > 0;
+}
+
+void RunBrowserBackend::fit_law(std::int64_t run_id, const QString& material) {
+  if (!reader_ || fitting()) return;
+  // A reader of its own: the browser's reader serves the other worker meanwhile.
+  const std::string path = path_.toStdString();
+  fits_->run<FittedLawView>(
+      [this, path, run_id, material] {
+        acquisition::FittedComparisonOptions o;
+        o.material = material.toStdString();
+        o.progress = [this](const std::string& line) {
+          QMetaObject::invokeMethod(
+              this, [this, l = QString::fromStdString(line)] { emit fit_progress(l); }, Qt::QueuedConnection);
+        };
+        const db::Reader reader(path);
+        const auto c = acquisition::compare_with_fitted_law(reader, run_id, o);
+        FittedLawView v;
+        v.run_id = run_id;
+        v.summary = c.fitted_here ? tr("published law x %1 (%2-%3, %4 %), %5 confidence laws")
+                                        .arg(c.factor, 0, 'f', 3)
+                                        .arg(c.factor_low, 0, 'f', 3)
+                                        .arg(c.factor_high, 0, 'f', 3)
+                                        .arg(100 * c.confidence, 0, 'f', 0)
+                                        .arg(c.band_laws.size())
+                                  : tr("law of %1, %2 confidence laws").arg(material).arg(c.band_laws.size());
+        for (const auto& s : c.steps) {
+          if (!std::isfinite(s.T_fitted)) continue;
+          v.points.push_back({s.index, s.nominal_strain, s.T_fitted, s.T_fitted_se, s.band_lo, s.band_hi});
+        }
+        return v;
+      },
+      [this](FittedLawView& v) { emit law_fitted(v); },
+      [this, run_id](const QString& message) {
+        emit failed(tr("Fitting the law of run %1").arg(run_id), message);
+      });
 }
 
 }  // namespace tocd::gui

@@ -48,6 +48,17 @@ struct RunDetails {
   std::vector<QPointF> load_vs_displacement;
 };
 
+/// A run's steps predicted with the sample's own law (acquisition::compare_with_fitted_law).
+struct FittedPoint {
+  int step = 0;
+  double nominal_strain = 0, T = 0, T_stderr = 0, band_lo = 0, band_hi = 0;
+};
+struct FittedLawView {
+  std::int64_t run_id = 0;
+  QString summary;  ///< the law, and where it came from, in one line
+  std::vector<FittedPoint> points;
+};
+
 /// The step-table rows of a run (its compare rows): load is the step's mean of the channel
 /// named "load" (or, failing that, the first channel in N).
 std::vector<StepRow> step_rows(const std::vector<db::CompareRow>& compare,
@@ -72,6 +83,12 @@ class RunBrowserBackend : public QObject {
   void load_run(std::int64_t run_id);
   /// Writes the run's steps table as CSV (db::write_csv).
   void export_csv(std::int64_t run_id, const QString& path);
+  /// Identifies the run's own law through the FE ("fitted") or takes it from a fit JSON
+  /// (`tocdlab fit --method fe --json`), and re-predicts its steps with it and its confidence
+  /// laws. Minutes of work, on a worker of its own, so browsing goes on meanwhile; progress
+  /// lines come as fit_progress(). Ignored while a fit is running.
+  void fit_law(std::int64_t run_id, const QString& material = QStringLiteral("fitted"));
+  bool fitting() const;
 
   QString path() const { return path_; }
   bool is_open() const { return static_cast<bool>(reader_); }
@@ -83,10 +100,13 @@ class RunBrowserBackend : public QObject {
   void runs_listed(const QVector<tocd::gui::RunListing>& runs);
   void run_loaded(const tocd::gui::RunDetails& details);
   void exported(const QString& path);
+  void fit_progress(const QString& line);
+  void law_fitted(const tocd::gui::FittedLawView& view);
   void failed(const QString& action, const QString& message);
 
  private:
   TaskRunner* tasks_;
+  TaskRunner* fits_;
   std::shared_ptr<db::Reader> reader_;
   QString path_;
 };

@@ -1,8 +1,10 @@
 #include "browser_view.hpp"
 
 #include <QGridLayout>
+#include <QHBoxLayout>
 #include <QHeaderView>
 #include <QLabel>
+#include <QPushButton>
 #include <QSplitter>
 #include <QTableView>
 #include <QTableWidget>
@@ -27,7 +29,14 @@ BrowserView::BrowserView(QWidget* parent)
           this)),
       power_chart_(new LiveChart(
           {tr("Optical power (stored)"), tr("time (s)"), tr("power (W)"), 1e-9, 0.0, 100000}, this)),
-      events_(new EventLog(this)) {
+      events_(new EventLog(this)),
+      fit_button_(new QPushButton(tr("Fit the sample's law (FE)"), this)),
+      fit_label_(new QLabel(this)) {
+  fit_button_->setToolTip(
+      tr("Identify the run's own law from its load-displacement curve through the FE and re-predict "
+         "every step with it: fitted T with its Monte Carlo error and the model band over the fit's "
+         "confidence laws (tocdlab compare --material fitted)"));
+  fit_button_->setEnabled(false);
   runs_->setColumnCount(7);
   runs_->setHorizontalHeaderLabels({tr("Run"), tr("Name"), tr("Status"), tr("Started (UTC)"), tr("Steps"),
                                     tr("Predictions"), tr("Operator")});
@@ -55,9 +64,18 @@ BrowserView::BrowserView(QWidget* parent)
   bottom->addWidget(events_);
   split->addWidget(bottom);
 
+  auto* fit_row = new QHBoxLayout();
+  fit_row->addWidget(fit_button_);
+  fit_row->addWidget(fit_label_, 1);
+
   auto* col = new QVBoxLayout(this);
   col->addWidget(title_);
+  col->addLayout(fit_row);
   col->addWidget(split, 1);
+
+  connect(fit_button_, &QPushButton::clicked, this, [this] {
+    if (const auto id = selected_run(); id != 0) emit fit_requested(id);
+  });
 
   connect(runs_, &QTableWidget::itemSelectionChanged, this, [this] {
     if (const auto id = selected_run(); id != 0) emit run_selected(id);
@@ -106,6 +124,14 @@ void BrowserView::show_run(const RunDetails& d) {
     if (r.predicted_T)
       comparison_->set_predicted(r.step, r.nominal_strain, *r.predicted_T, *r.predicted_T_stderr);
   }
+  shown_run_ = d.listing.id;
+  if (fitted_ && fitted_->run_id == shown_run_) {
+    show_fitted(*fitted_);
+  } else {
+    fitted_.reset();
+    fit_label_->clear();
+  }
+  fit_button_->setEnabled(shown_run_ != 0 && !fitting_);
   load_chart_->clear();
   double k = 0;
   for (const QPointF& p : d.load_vs_displacement) load_chart_->add(k++, p.x(), p.y());
@@ -123,6 +149,28 @@ void BrowserView::show_run(const RunDetails& d) {
                                                           : EventLog::Severity::info;
     events_->add(sev, e.kind, e.message, e.utc);
   }
+}
+
+void BrowserView::show_fitted(const FittedLawView& v) {
+  if (v.run_id != shown_run_) return;  // the user moved on to another run meanwhile
+  fitted_ = v;
+  comparison_->clear_fitted();
+  for (const FittedPoint& p : v.points)
+    comparison_->set_fitted(p.step, p.nominal_strain, p.T, p.T_stderr, p.band_lo, p.band_hi);
+  fit_label_->setText(tr("Run %1, sample's law: %2").arg(v.run_id).arg(v.summary));
+}
+
+void BrowserView::show_fit_progress(const QString& line) {
+  fit_label_->setText(line);
+}
+
+void BrowserView::set_fitting(bool fitting) {
+  fitting_ = fitting;
+  fit_button_->setEnabled(!fitting && shown_run_ != 0);
+}
+
+QString BrowserView::fit_text() const {
+  return fit_label_->text();
 }
 
 std::int64_t BrowserView::selected_run() const {

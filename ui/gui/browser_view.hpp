@@ -1,10 +1,12 @@
 #pragma once
 
 #include <QWidget>
+#include <optional>
 
 #include "backend_db.hpp"
 
 class QLabel;
+class QPushButton;
 class QTableView;
 class QTableWidget;
 
@@ -16,7 +18,9 @@ class LiveChart;
 class StepTableModel;
 
 /// The run browser: the runs of an opened database and, for the selected one, its step
-/// table, measured-vs-simulated chart, stored time series and events (all read-only).
+/// table, measured-vs-simulated chart, stored time series and events (all read-only). On
+/// request, the selected run's steps predicted with the sample's own law, with its Monte Carlo
+/// error and model band, join the chart.
 class BrowserView : public QWidget {
   Q_OBJECT
 
@@ -26,6 +30,11 @@ class BrowserView : public QWidget {
   void show_database(const QString& path, const QVector<RunListing>& runs);
   void show_runs(const QVector<RunListing>& runs);
   void show_run(const RunDetails& details);
+  /// Draws the fitted law's predictions when they belong to the run on show.
+  void show_fitted(const FittedLawView& view);
+  void show_fit_progress(const QString& line);
+  /// While a fit runs its button is off.
+  void set_fitting(bool fitting);
 
   /// The run selected in the list, or 0.
   std::int64_t selected_run() const;
@@ -35,9 +44,12 @@ class BrowserView : public QWidget {
   ComparisonChart* comparison() const noexcept { return comparison_; }
   EventLog* events() const noexcept { return events_; }
   QString title_text() const;
+  QString fit_text() const;
+  QPushButton* fit_button() const noexcept { return fit_button_; }
 
  signals:
   void run_selected(qint64 run_id);
+  void fit_requested(qint64 run_id);
 
  private:
   QLabel* title_;
@@ -48,7 +60,12 @@ class BrowserView : public QWidget {
   LiveChart* load_chart_;
   LiveChart* power_chart_;
   EventLog* events_;
+  QPushButton* fit_button_;
+  QLabel* fit_label_;
   QVector<RunListing> listed_;
+  std::int64_t shown_run_ = 0;
+  bool fitting_ = false;
+  std::optional<FittedLawView> fitted_;  ///< kept so that reloading the run keeps its fit
 };
 
 }  // namespace tocd::gui

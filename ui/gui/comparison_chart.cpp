@@ -3,6 +3,7 @@
 #include <QChart>
 #include <QLegendMarker>
 #include <QLineSeries>
+#include <QPen>
 #include <QScatterSeries>
 #include <QValueAxis>
 #include <algorithm>
@@ -11,6 +12,24 @@
 #include "chart_axes.hpp"
 
 namespace tocd::gui {
+
+namespace {
+
+// An error bar: a stem from lo to hi with caps of half width `cap` (points 2 and 3 are the stem).
+QList<QPointF> bar_points(double x, double lo, double hi, double cap) {
+  return {{x - cap, lo}, {x + cap, lo}, {x, lo}, {x, hi}, {x - cap, hi}, {x + cap, hi}};
+}
+
+std::vector<ComparisonChart::ErrorBar> bars_of(const std::vector<QLineSeries*>& pool) {
+  std::vector<ComparisonChart::ErrorBar> out;
+  for (const QLineSeries* s : pool) {
+    const auto pts = s->points();
+    out.push_back({pts[2].x(), pts[2].y(), pts[3].y()});
+  }
+  return out;
+}
+
+}  // namespace
 
 ComparisonChart::ComparisonChart(QWidget* parent) : QChartView(parent) {
   auto* chart = new QChart();
@@ -23,8 +42,13 @@ ComparisonChart::ComparisonChart(QWidget* parent) : QChartView(parent) {
   predicted_series_->setName(tr("simulated ± 1 s.e."));
   predicted_series_->setMarkerShape(QScatterSeries::MarkerShapeRectangle);
   predicted_series_->setMarkerSize(8);
+  fitted_series_ = new QScatterSeries(chart);
+  fitted_series_->setName(tr("fitted law ± 1 s.e., model band"));
+  fitted_series_->setMarkerShape(QScatterSeries::MarkerShapeTriangle);
+  fitted_series_->setMarkerSize(9);
   chart->addSeries(measured_series_);
   chart->addSeries(predicted_series_);
+  chart->addSeries(fitted_series_);
   x_axis_ = new QValueAxis(chart);
   y_axis_ = new QValueAxis(chart);
   x_axis_->setTitleText(tr("nominal strain"));
@@ -33,10 +57,12 @@ ComparisonChart::ComparisonChart(QWidget* parent) : QChartView(parent) {
   y_axis_->setRange(0, 1);
   chart->addAxis(x_axis_, Qt::AlignBottom);
   chart->addAxis(y_axis_, Qt::AlignLeft);
-  measured_series_->attachAxis(x_axis_);
-  measured_series_->attachAxis(y_axis_);
-  predicted_series_->attachAxis(x_axis_);
-  predicted_series_->attachAxis(y_axis_);
+  for (QScatterSeries* s : {measured_series_, predicted_series_, fitted_series_}) {
+    s->attachAxis(x_axis_);
+    s->attachAxis(y_axis_);
+  }
+  // Shown only once a fit has been drawn.
+  for (QLegendMarker* marker : chart->legend()->markers(fitted_series_)) marker->setVisible(false);
   setChart(chart);
   setRenderHint(QPainter::Antialiasing);
   setMinimumSize(300, 220);
@@ -52,36 +78,69 @@ void ComparisonChart::set_predicted(int step, double nominal_strain, double T, d
   rebuild();
 }
 
-void ComparisonChart::clear() {
-  measured_.clear();
-  predicted_.clear();
+void ComparisonChart::set_fitted(int step, double nominal_strain, double T, double T_stderr, double band_lo,
+                                 double band_hi) {
+  fitted_[step] = {nominal_strain, T, std::abs(T_stderr), std::min(band_lo, band_hi),
+                   std::max(band_lo, band_hi)};
   rebuild();
 }
 
-void ComparisonChart::rebuild() {
-  QList<QPointF> m, p;
-  for (const auto& [step, pt] : measured_) m.push_back(pt);
-  for (const auto& [step, pr] : predicted_) p.push_back(QPointF(pr.x, pr.T));
-  measured_series_->replace(m);
-  predicted_series_->replace(p);
+void ComparisonChart::clear_fitted() {
+  fitted_.clear();
+  rebuild();
+}
 
-  // One series per bar (stem with caps). Reuse what exists, add or drop the difference.
+void ComparisonChart::clear() {
+  measured_.clear();
+  predicted_.clear();
+  fitted_.clear();
+  rebuild();
+}
+
+void ComparisonChart::size_bars(std::vector<QLineSeries*>& pool, std::size_t n, const QPen& pen) {
   QChart* c = chart();
-  while (bar_series_.size() > predicted_.size()) {
-    QLineSeries* s = bar_series_.back();
-    bar_series_.pop_back();
+  while (pool.size() > n) {
+    QLineSeries* s = pool.back();
+    pool.pop_back();
     c->removeSeries(s);
     delete s;
   }
+  while (pool.size() < n) {
+    auto* s = new QLineSeries(c);
+    s->setPen(pen);
+    c->addSeries(s);
+    s->attachAxis(x_axis_);
+    s->attachAxis(y_axis_);
+    for (QLegendMarker* marker : c->legend()->markers(s)) marker->setVisible(false);
+    pool.push_back(s);
+  }
+}
+
+void ComparisonChart::rebuild() {
+  QList<QPointF> m, p, f;
+  for (const auto& [step, pt] : measured_) m.push_back(pt);
+  for (const auto& [step, pr] : predicted_) p.push_back(QPointF(pr.x, pr.T));
+  for (const auto& [step, ft] : fitted_) f.push_back(QPointF(ft.x, ft.T));
+  measured_series_->replace(m);
+  predicted_series_->replace(p);
+  fitted_series_->replace(f);
+  for (QLegendMarker* marker : chart()->legend()->markers(fitted_series_))
+    marker->setVisible(!fitted_.empty());
+
   double x_lo = 0, x_hi = 0;
   {
     std::vector<QPointF> all(m.begin(), m.end());
     all.insert(all.end(), p.begin(), p.end());
+    all.insert(all.end(), f.begin(), f.end());
     double y_lo = 0, y_hi = 0;
     if (bounds(all, x_lo, x_hi, y_lo, y_hi)) {
       for (const auto& [step, pr] : predicted_) {
         y_lo = std::min(y_lo, pr.T - pr.err);
         y_hi = std::max(y_hi, pr.T + pr.err);
+      }
+      for (const auto& [step, ft] : fitted_) {
+        y_lo = std::min({y_lo, ft.T - ft.err, ft.lo});
+        y_hi = std::max({y_hi, ft.T + ft.err, ft.hi});
       }
       const auto [a, b] = padded_range(x_lo, x_hi, {0.0, 1.0}, 0.08);
       const auto [lo, hi] = padded_range(y_lo, y_hi, {0.0, 1.0}, 0.1);
@@ -92,20 +151,24 @@ void ComparisonChart::rebuild() {
     }
   }
   const double cap = 0.01 * std::max(x_hi - x_lo, 1e-6);
+
+  // The model band is drawn behind the fitted point's Monte Carlo bar, wide and pale, so both
+  // stay visible.
+  QColor band_colour = fitted_series_->color();
+  band_colour.setAlpha(70);
+  QPen band_pen(band_colour);
+  band_pen.setWidth(9);
+  band_pen.setCapStyle(Qt::FlatCap);
+  size_bars(band_series_, fitted_.size(), band_pen);
+  size_bars(fitted_bar_series_, fitted_.size(), QPen(fitted_series_->color()));
+  size_bars(bar_series_, predicted_.size(), QPen(predicted_series_->color()));
   std::size_t k = 0;
-  for (const auto& [step, pr] : predicted_) {
-    if (k == bar_series_.size()) {
-      auto* s = new QLineSeries(c);
-      s->setColor(predicted_series_->color());
-      c->addSeries(s);
-      s->attachAxis(x_axis_);
-      s->attachAxis(y_axis_);
-      for (QLegendMarker* marker : c->legend()->markers(s)) marker->setVisible(false);
-      bar_series_.push_back(s);
-    }
-    const double lo = pr.T - pr.err, hi = pr.T + pr.err;
-    bar_series_[k]->replace(QList<QPointF>{
-        {pr.x - cap, lo}, {pr.x + cap, lo}, {pr.x, lo}, {pr.x, hi}, {pr.x - cap, hi}, {pr.x + cap, hi}});
+  for (const auto& [step, pr] : predicted_)
+    bar_series_[k++]->replace(bar_points(pr.x, pr.T - pr.err, pr.T + pr.err, cap));
+  k = 0;
+  for (const auto& [step, ft] : fitted_) {
+    fitted_bar_series_[k]->replace(bar_points(ft.x, ft.T - ft.err, ft.T + ft.err, cap));
+    band_series_[k]->replace(bar_points(ft.x, ft.lo, ft.hi, 0.0));
     ++k;
   }
 }
@@ -120,13 +183,21 @@ std::vector<QPointF> ComparisonChart::predicted_points() const {
   return {pts.begin(), pts.end()};
 }
 
+std::vector<QPointF> ComparisonChart::fitted_points() const {
+  const auto pts = fitted_series_->points();
+  return {pts.begin(), pts.end()};
+}
+
 std::vector<ComparisonChart::ErrorBar> ComparisonChart::error_bars() const {
-  std::vector<ErrorBar> out;
-  for (const QLineSeries* s : bar_series_) {
-    const auto pts = s->points();
-    out.push_back({pts[2].x(), pts[2].y(), pts[3].y()});
-  }
-  return out;
+  return bars_of(bar_series_);
+}
+
+std::vector<ComparisonChart::ErrorBar> ComparisonChart::fitted_error_bars() const {
+  return bars_of(fitted_bar_series_);
+}
+
+std::vector<ComparisonChart::ErrorBar> ComparisonChart::model_bands() const {
+  return bars_of(band_series_);
 }
 
 }  // namespace tocd::gui

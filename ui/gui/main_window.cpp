@@ -147,10 +147,23 @@ void MainWindow::connect_backends() {
   connect(browser_, &RunBrowserBackend::run_loaded, browser_view_, &BrowserView::show_run);
   connect(browser_, &RunBrowserBackend::exported, this,
           [this](const QString& path) { statusBar()->showMessage(tr("Exported %1").arg(path)); });
-  connect(browser_, &RunBrowserBackend::failed, this, &MainWindow::show_error);
+  connect(browser_, &RunBrowserBackend::failed, this, [this](const QString& action, const QString& message) {
+    browser_view_->set_fitting(browser_->fitting());  // a failed fit frees its button
+    show_error(action, message);
+  });
   connect(browser_view_, &BrowserView::run_selected, this, [this](qint64 id) {
     browser_->load_run(id);
     update_actions();
+  });
+  connect(browser_view_, &BrowserView::fit_requested, this, [this](qint64 id) {
+    browser_view_->set_fitting(true);
+    browser_->fit_law(id);
+  });
+  connect(browser_, &RunBrowserBackend::fit_progress, browser_view_, &BrowserView::show_fit_progress);
+  connect(browser_, &RunBrowserBackend::law_fitted, this, [this](const FittedLawView& v) {
+    browser_view_->set_fitting(false);
+    browser_view_->show_fitted(v);
+    statusBar()->showMessage(tr("Run %1: predicted with the sample's own law").arg(v.run_id));
   });
 
   // Simulation

@@ -1,0 +1,162 @@
+// The sample's own law next to the default one, step by step (docs/study.md, "Sample's own law").
+#include "tocd/acquisition/fitted_comparison.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <numbers>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "tocd/acquisition/compare_table.hpp"
+#include "tocd/acquisition/run_stress_strain.hpp"
+#include "tocd/core/error.hpp"
+#include "tocd/sim/fe/inverse_fit.hpp"
+#include "tocd/sim/study/predictor.hpp"
+
+namespace tocd::acquisition {
+namespace {
+
+namespace fe = tocd::sim::fe;
+namespace mat = tocd::sim::material;
+namespace st = tocd::sim::study;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+mat::OgdenParameters law_from_json(const nlohmann::json& j) {
+  mat::OgdenParameters p;
+  p.mu = j.at("mu_MPa").get<std::vector<double>>();
+  p.alpha = j.at("alpha").get<std::vector<double>>();
+  p.D = j.at("D_per_MPa").get<std::vector<double>>();
+  p.validate();
+  return p;
+}
+
+void read_fit_file(const std::string& path, FittedComparison& out) {
+  std::ifstream in(path);
+  if (!in) throw tocd::ConfigError(fmt::format("--material {}: cannot open the file", path));
+  try {
+    const auto j = nlohmann::json::parse(in);
+    for (const auto& c : j.at("confidence_laws"))
+      out.band_laws.emplace_back(c.at("label").get<std::string>(), law_from_json(c));
+    out.law = law_from_json(j.at("ogden"));
+  } catch (const nlohmann::json::exception& e) {
+    throw tocd::ConfigError(
+        fmt::format("--material {}: expected 'fitted' or the output of `tocdlab fit --method fe --json` ({})",
+                    path, e.what()));
+  }
+}
+
+// `scaled`: one FE solve per evaluation, a handful of evaluations.
+void fit_here(const db::Reader& reader, std::int64_t run_id, const FittedComparisonOptions& o,
+              FittedComparison& out) {
+  const auto ss = stress_strain_from_run(reader, run_id, o.pin_radius_mm, 16);
+  fe::PinCompressionData p;
+  p.name = fmt::format("run {}", run_id);
+  p.model.thickness_mm = ss.thickness_mm;
+  p.model.pin_radius_mm = o.pin_radius_mm;
+  const double area = std::numbers::pi * o.pin_radius_mm * o.pin_radius_mm;
+  for (std::size_t k = 0; k < ss.strain.size(); ++k) {
+    p.displacement_mm.push_back(ss.strain[k] * ss.thickness_mm);
+    p.load_N.push_back(ss.stress_MPa[k] * area);
+  }
+  fe::InverseFitOptions fo;
+  fo.model = fe::InverseModel::scaled;
+  if (o.progress) fo.progress = [&](const std::string& s) { o.progress("fit: " + s); };
+  const auto r = fe::fit_material({p}, {}, fo);
+  out.law = r.material;
+  out.band_laws = r.confidence_laws;
+  out.fitted_here = true;
+  out.factor = r.values[0];
+  out.factor_low = r.interval_low[0];
+  out.factor_high = r.interval_high[0];
+  out.confidence = r.confidence;
+}
+
+struct Ratio {
+  double T = kNaN, se = kNaN;
+};
+
+// T(step) / T(baseline) as the run engine computes it, for a stored config with another law.
+Ratio predict(st::Predictor& predictor, st::ConfigDocument doc, const mat::OgdenParameters& law,
+              const FittedComparisonOptions& o) {
+  doc.step.material = law;
+  auto apply = [&](st::PredictionRequest& r) {
+    if (o.photons) r.photons = o.photons;
+    r.threads = o.threads;
+  };
+  apply(doc.step);
+  const auto s = predictor.predict(doc.step);
+  if (!doc.baseline) return {s.T, s.T_stderr};
+  apply(*doc.baseline);
+  const auto b = predictor.predict(*doc.baseline);
+  const double T = s.T / b.T;
+  return {T, T * std::hypot(s.T_stderr / s.T, b.T_stderr / b.T)};
+}
+
+// The FE pin force at the step's displacement with `law` (NaN for the flat baseline).
+double fe_force(const st::PredictionRequest& step, const mat::OgdenParameters& law) {
+  if (step.displacement_mm <= 0) return kNaN;
+  fe::PinCompressionData pc;
+  pc.model.thickness_mm = step.thickness_mm;
+  pc.model.pin_radius_mm = step.pin_radius_mm;
+  pc.model.outer_radius_mm = 0.5 * step.slide_size_mm;
+  pc.displacement_mm = {step.displacement_mm};
+  pc.load_N = {0};
+  const auto f = fe::pin_force_curve(pc, law);
+  return f.empty() ? kNaN : f[0];
+}
+
+}  // namespace
+
+FittedComparison compare_with_fitted_law(const db::Reader& reader, std::int64_t run_id,
+                                         const FittedComparisonOptions& o) {
+  const auto table = compare_table(reader, run_id);
+  std::map<int, std::string> configs;  // latest prediction config per step
+  for (const auto& p : reader.predictions(run_id)) configs[p.step_index] = p.config_json;
+
+  FittedComparison out;
+  out.run_id = run_id;
+  if (o.material == "fitted")
+    fit_here(reader, run_id, o, out);
+  else
+    read_fit_file(o.material, out);
+
+  st::Predictor predictor(1);
+  for (const auto& line : table.lines) {
+    FittedStep s;
+    s.index = line.index;
+    s.displacement_mm = line.displacement_mm;
+    s.nominal_strain = line.nominal_strain;
+    s.load_N = line.load_N;
+    s.measured_T = line.measured_T;
+    s.T_default = line.has_prediction ? line.predicted_T : kNaN;
+    s.T_default_se = line.has_prediction ? line.predicted_T_stderr : kNaN;
+    s.fe_force_default_N = s.fe_force_fitted_N = kNaN;
+    s.T_fitted = s.T_fitted_se = s.band_lo = s.band_hi = kNaN;
+    const auto cfg = configs.find(line.index);
+    if (cfg != configs.end()) {
+      const auto doc = st::config_document_from_json(nlohmann::json::parse(cfg->second));
+      if (o.progress)
+        o.progress(fmt::format("step {}: d = {} mm, predicting with the fitted law", line.index,
+                               doc.step.displacement_mm));
+      s.fe_force_default_N = fe_force(doc.step, doc.step.material);
+      s.fe_force_fitted_N = fe_force(doc.step, out.law);
+      const Ratio fitted = predict(predictor, doc, out.law, o);
+      s.T_fitted = fitted.T;
+      s.T_fitted_se = fitted.se;
+      s.band_lo = s.band_hi = fitted.T;
+      for (const auto& [label, law] : out.band_laws) {
+        const Ratio b = predict(predictor, doc, law, o);  // same seed: the band is not MC noise
+        s.band_lo = std::min(s.band_lo, b.T);
+        s.band_hi = std::max(s.band_hi, b.T);
+      }
+    }
+    out.steps.push_back(s);
+  }
+  return out;
+}
+
+}  // namespace tocd::acquisition
