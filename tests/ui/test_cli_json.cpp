@@ -136,6 +136,24 @@ TEST_F(CliJson, PredictStep) {
   EXPECT_TRUE(j["T_se"].is_number());
 }
 
+// T over a hold with water-content optics. Under a pin held still, the water that has left
+// the skin can only grow and the pin force can only relax: the hold is a consolidation.
+TEST_F(CliJson, PredictWaterTimeCourse) {
+  const auto j = json_of("predict --optics water --times 0,10 --photons 1000 --json");
+  EXPECT_EQ(j["optics"], "water");
+  ASSERT_EQ(j["points"].size(), 2u);
+  const auto& a = j["points"][0];
+  const auto& b = j["points"][1];
+  EXPECT_EQ(a["time_s"], 0.0);
+  EXPECT_EQ(b["time_s"], 10.0);
+  for (const auto* p : {&a, &b}) {
+    EXPECT_TRUE((*p)["T"].is_number());
+    EXPECT_TRUE((*p)["T_se"].is_number()) << "standard errors are NAME_se";
+  }
+  EXPECT_GT(b["water_outflow_mm3"].get<double>(), a["water_outflow_mm3"].get<double>());
+  EXPECT_LE(b["pin_force_N"].get<double>(), a["pin_force_N"].get<double>());
+}
+
 TEST_F(CliJson, RunAndCompareNumberStepsFromOne) {
   const auto run = json_of("run protocol.toml --simulated --no-predict --clock-factor 20 --db lab.db --json");
   ASSERT_TRUE(run.contains("compare"));

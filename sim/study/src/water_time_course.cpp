@@ -127,6 +127,7 @@ std::vector<WaterTimePoint> predict_water_time_course(const WaterTimeCourseReque
     p.T = res.transmittance.mean;
     p.T_stderr = res.transmittance.se;
     out.push_back(p);
+    if (r.progress) r.progress(out.size(), r.times_s.size());
   }
   return out;
 }

@@ -13,6 +13,7 @@
 #include "numeric_options.hpp"
 #include "output_naming.hpp"
 #include "predict_series.hpp"
+#include "predict_water.hpp"
 #include "progress.hpp"
 #include "tocd/acquisition/sim_step_predictor.hpp"
 #include "tocd/core/error.hpp"
@@ -31,7 +32,8 @@ struct PredictOptions {
   st::PredictionRequest request;
   std::string compressed = "cleared", config_path;
   bool json = false;
-  tocd::cli::RunSeriesOptions series;  // --db/--run/--output-dir: a run's steps as a .pvd series
+  tocd::cli::RunSeriesOptions series;    // --db/--run/--output-dir: a run's steps as a .pvd series
+  tocd::cli::PredictWaterOptions water;  // --optics water: T(t) over a hold
 };
 
 nlohmann::json prediction_json(const st::Prediction& p) {
@@ -180,8 +182,10 @@ void install_predict(CLI::App& root) {
   cmd->add_option("--seed", r.seed, "random seed")
       ->check(cli::whole_in(std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max()))
       ->capture_default_str();
-  cmd->add_option("--optics", r.optics_model, "optics model: threshold | graded")
-      ->check(CLI::IsMember({"threshold", "graded"}))
+  cmd->add_option("--optics", r.optics_model,
+                  "optics model: threshold | graded | water (T over a hold: biphasic FE, water-content "
+                  "optics; docs/water.md)")
+      ->check(CLI::IsMember({"threshold", "graded", "water"}))
       ->capture_default_str();
   cmd->add_option("--compressed-optics", o->compressed,
                   "threshold model: optics of the compressed region (native, a80, ..., cleared, MU_A/MU_S/N)")
@@ -218,7 +222,50 @@ void install_predict(CLI::App& root) {
   db->needs(run)->needs(dir)->excludes("--config");
   run->needs(db);
   dir->needs(db);
-  cmd->callback([o] { run_predict(*o); });
+  auto& w = o->water;
+  auto* hold =
+      cmd->add_option("--hold-s", w.hold_s, "water optics: length of the hold (s); T at 0, 1/6, 1/2, 1 of it")
+          ->check(cli::real_above(0.0, 1e6))
+          ->capture_default_str();
+  auto* times =
+      cmd->add_option("--times", w.times_s, "water optics: time points into the hold (s), ascending")
+          ->delimiter(',')
+          ->excludes(hold);
+  auto* ramp =
+      cmd->add_option("--ramp-s", w.request.ramp_s, "water optics: time the pin takes to its depth (s)")
+          ->check(cli::real_above(0.0, 1e6))
+          ->capture_default_str();
+  auto* nu = cmd->add_option("--drained-poisson", w.request.drained_poisson,
+                             "water optics: drained Poisson's ratio of the skeleton")
+                 ->check(cli::real_in(-0.99, 0.4999))
+                 ->capture_default_str();
+  auto* k0 = cmd->add_option("--k0", w.request.permeability.k0_mm4_per_Ns,
+                             "water optics: permeability at the reference state (mm^4/(N s))")
+                 ->check(cli::real_above(0.0, 1e6))
+                 ->capture_default_str();
+  cmd->callback([o, cmd, hold, times, ramp, nu, k0] {
+    const bool water = o->request.optics_model == "water";
+    if (!water) {
+      for (const CLI::Option* opt : {hold, times, ramp, nu, k0})
+        if (opt->count() > 0) throw CLI::ValidationError(opt->get_name(), "needs --optics water");
+      run_predict(*o);
+      return;
+    }
+    for (const char* other : {"--config", "--db", "--baseline", "--compressed-optics", "--graded-bins",
+                              "--fluence-dir", "--max-edge", "--tip-edge", "--pin-length"})
+      if (cmd->count(other) > 0) throw CLI::ValidationError(other, "is not used with --optics water");
+    auto& q = o->water.request;
+    const auto& given = o->request;
+    // The time course's own defaults (docs/water.md) unless given here.
+    if (cmd->count("--displacement") > 0) q.displacement_mm = given.displacement_mm;
+    if (cmd->count("--thickness") > 0) q.thickness_mm = given.thickness_mm;
+    if (cmd->count("--photons") > 0) q.photons = given.photons;
+    q.seed = given.seed;
+    q.threads = given.threads;
+    q.mesh_preset = given.mesh_preset;
+    o->water.json = o->json;
+    tocd::cli::run_predict_water(o->water);
+  });
 }
 
 }  // namespace

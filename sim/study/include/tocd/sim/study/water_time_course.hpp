@@ -1,6 +1,8 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -29,6 +31,8 @@ struct WaterTimeCourseRequest {
   std::uint64_t photons = 20000, seed = 1;
   int threads = 0;
   std::string mesh_preset = "fast";
+  /// Called after each time point (points done, points in all); may be empty.
+  std::function<void(std::size_t, std::size_t)> progress;
 };
 
 struct WaterTimePoint {
