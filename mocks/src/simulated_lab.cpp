@@ -44,8 +44,12 @@ SimulatedLab::SimulatedLab(SimulatedLabOptions opt) : impl_(std::make_unique<Imp
     // The light under the slide: source power through the sample at the pin's displacement.
     TesterTwin* tester = s.tester.get();
     const auto tissue = opt.tissue;
-    const double source = opt.source_power_W;
-    p.power_W = [tester, tissue, source] { return source * tissue->transmission(tester->displacement_mm()); };
+    const double source = opt.source_power_W, f = opt.delayed_clearing;
+    p.power_W = [tester, tissue, source, f] {
+      const double now = tissue->transmission(tester->displacement_mm());
+      if (f == 0.0) return source * now;
+      return source * ((1.0 - f) * now + f * tissue->transmission(tester->drained_displacement_mm()));
+    };
     s.meter = std::make_unique<PowerMeterTwin>(p);
     s.meter->serve_tcp("127.0.0.1", opt.power_meter_port);
   }

@@ -27,6 +27,9 @@ MainWindow::MainWindow(std::unique_ptr<GuiSettings> settings, QWidget* parent)
   setWindowTitle(QStringLiteral("tocdlab %1").arg(QString::fromUtf8(tocd::version().data())));
   resize(1400, 900);
   sim_options_.clock_factor = settings_->clock_factor();
+  // The simulated sample keeps clearing while a step holds, as `tocdlab demo`'s does: the power
+  // chart shows T rising through each hold.
+  sim_options_.delayed_clearing = 0.3;
   lab_ = new LabBackend(this);
   run_ = new RunBackend(this);
   browser_ = new RunBrowserBackend(this);

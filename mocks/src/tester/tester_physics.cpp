@@ -28,6 +28,7 @@ void TesterPhysics::advance(double t_s) {
   t_s_ = t_s;
   if (!moving_) {  // holding: the overstress relaxes exactly, no need to step
     overstress_N_ *= std::exp(-dt / p_.relaxation_time_s);
+    drain(dt);
     return;
   }
   // Moving: 1 ms (simulated) steps resolve the load limit to within one step of travel. No call
@@ -42,7 +43,15 @@ void TesterPhysics::advance(double t_s) {
     step(h);
     dt -= h;
   }
-  if (dt > 0.0) overstress_N_ *= std::exp(-dt / p_.relaxation_time_s);
+  if (dt > 0.0) {
+    overstress_N_ *= std::exp(-dt / p_.relaxation_time_s);
+    drain(dt);
+  }
+}
+
+void TesterPhysics::drain(double h) {
+  const double d = displacement_mm();
+  drained_displacement_ = d + (drained_displacement_ - d) * std::exp(-h / p_.relaxation_time_s);
 }
 
 void TesterPhysics::step(double h) {
@@ -60,6 +69,7 @@ void TesterPhysics::step(double h) {
   overstress_N_ = overstress_N_ * std::exp(-h / p_.relaxation_time_s) +
                   p_.relaxation_fraction * (eq - last_equilibrium_N_);
   last_equilibrium_N_ = eq;
+  drain(h);
   if (dist > 0.0 && true_load_N() > p_.max_load_N) {  // only pressing further in trips the limit
     moving_ = false;
     fault_code_ = m::fault_load_limit;

@@ -11,6 +11,11 @@ namespace tocd::mocks {
 /// The load frame and its sample, without any protocol: finite-speed motion of the pin, load
 /// from the tissue's equilibrium curve plus a standard-linear-solid overstress that relaxes while
 /// the pin holds, load-cell offset and noise, travel and load limits. Not thread-safe.
+///
+/// The overstress is what a biphasic sample carries while its water has not yet drained; the
+/// same first-order drainage, with the same time constant, gives the drained displacement: the
+/// displacement whose water content the sample has reached (it follows the pin's displacement,
+/// d(dd)/dt = (d - dd) / relaxation_time_s). The simulated lab's delayed clearing reads it.
 class TesterPhysics {
  public:
   struct Params {
@@ -48,6 +53,7 @@ class TesterPhysics {
 
   double position_mm() const { return position_; }
   double displacement_mm() const { return std::max(0.0, position_ - p_.contact_position_mm); }
+  double drained_displacement_mm() const { return drained_displacement_; }
   double true_load_N() const;  ///< what the sample pushes back with
   double measured_load_N();    ///< what the load cell reports (offset, tare, noise)
   bool moving() const { return moving_; }
@@ -59,6 +65,7 @@ class TesterPhysics {
 
  private:
   void step(double h);
+  void drain(double h);  ///< the drained displacement follows the displacement over h seconds
 
   Params p_;
   std::mt19937_64 rng_;
@@ -67,6 +74,7 @@ class TesterPhysics {
   double position_ = 0.0, target_ = 0.0, velocity_ = 1.0;
   bool moving_ = false;
   double overstress_N_ = 0.0;
+  double drained_displacement_ = 0.0;
   double last_equilibrium_N_ = 0.0;
   double tare_N_ = 0.0;
   std::uint16_t fault_code_ = 0;

@@ -188,6 +188,12 @@ double TesterTwin::displacement_mm() const {
   return impl_->physics.displacement_mm();
 }
 
+double TesterTwin::drained_displacement_mm() const {
+  std::lock_guard lock(impl_->state_mutex);
+  impl_->physics.advance(static_cast<double>(impl_->clock->now_ns()) * 1e-9);
+  return impl_->physics.drained_displacement_mm();
+}
+
 void TesterTwin::inject(const ModbusFault& fault) {
   impl_->faults.push(fault);
 }

@@ -71,6 +71,47 @@ TEST(SimulatedLab, PowerFollowsTransmissionAtThePinDisplacement) {
   }
 }
 
+// Delayed clearing: 30 % of the change in T waits for the water, which drains with the load's
+// relaxation time (20 s). Right after a fast step T sits between the instant and the drained
+// value the model gives at the tester's drained displacement; after 8 relaxation times it is
+// T(d) to within the noise (the rest, 0.3 e^-8 of the step, is 1e-4 of it).
+TEST(SimulatedLab, DelayedClearingLetsTRiseWhileTheWaterDrains) {
+  mocks::SimulatedLabOptions o = fast();
+  o.clock_factor = 20.0;  // 20 s of drainage per real second
+  o.with_vacuum = false;
+  o.delayed_clearing = 0.3;
+  const auto tissue = mocks::make_analytic_tissue(2.5);
+  o.tissue = tissue;
+  mocks::SimulatedLab lab(o);
+  devices::LabInstruments in = devices::open_lab(lab.config());
+  in.power_meter->zero();
+  in.power_meter->set_averaging(10);
+  auto model = [&](double d, double dd) {
+    return 1e-3 * (0.7 * tissue->transmission(d) + 0.3 * tissue->transmission(dd));
+  };
+  // Noise: 0.2 % per sample, 10 averaged: 0.063 %; 5 sigma.
+  auto noise = [](double P) { return 5 * 0.002 / std::sqrt(10.0) * P + 2e-9; };
+
+  in.tester->move_to(2.5, 10.0);  // 1.5 mm into the sample in 0.15 s
+  settle(*in.tester);
+  const double d = lab.tester().displacement_mm();
+  ASSERT_NEAR(d, 1.5, 1e-6);
+  const double dd_before = lab.tester().drained_displacement_mm();
+  const double early = in.power_meter->measure().power_W;
+  const double dd_after = lab.tester().drained_displacement_mm();
+  EXPECT_LT(dd_before, 0.5 * d) << "the water has hardly begun to drain";
+  EXPECT_LE(dd_before, dd_after);
+  EXPECT_GE(early, model(d, dd_before) - noise(early));
+  EXPECT_LE(early, model(d, dd_after) + noise(early));
+  EXPECT_LT(early, 1e-3 * tissue->transmission(d) - 10 * noise(early)) << "not yet cleared";
+
+  std::this_thread::sleep_for(std::chrono::milliseconds(8000));  // 160 s, 8 relaxation times
+  const double dd_late = lab.tester().drained_displacement_mm();
+  EXPECT_NEAR(dd_late, d, d * std::exp(-7.0));
+  const double late = in.power_meter->measure().power_W;
+  EXPECT_NEAR(late, 1e-3 * tissue->transmission(d), noise(late) + 0.3e-3 * std::exp(-7.0));
+}
+
 TEST(SimulatedLab, FaultHooksReachTheirInstruments) {
   mocks::SimulatedLab lab(fast());
   devices::LabInstruments in = devices::open_lab(lab.config());

@@ -22,6 +22,12 @@ struct SimulatedLabOptions {
   double contact_position_mm = 1.0;
   bool with_vacuum = true;
   bool with_power_meter = true;
+  /// Clearing over time: the share of a change in transmission that waits for the water to
+  /// drain. The meter reads T = (1 - f) T(d) + f T(dd), d the pin's displacement and dd the
+  /// tester's drained displacement (it follows d with the load's relaxation time), so after a
+  /// step T jumps by (1 - f) of the change and rises (or falls) the rest during the hold;
+  /// at long holds T(d). 0: the sample clears at once.
+  double delayed_clearing = 0.0;
   int tester_port = 0;       ///< 0 = any free port
   int power_meter_port = 0;  ///< 0 = any free port
 };
@@ -29,7 +35,8 @@ struct SimulatedLabOptions {
 /// Every simulated instrument of the pin-compression rig, each on its real transport: the tester
 /// (Modbus TCP on loopback), the power meter (SCPI over TCP) and the vacuum
 /// controller (Modbus RTU on a pseudo-terminal). They share one clock and one tissue: the power
-/// meter reads source power x transmission at the tester's current displacement.
+/// meter reads source power x transmission at the tester's current displacement (and, with
+/// delayed clearing, at its drained displacement).
 class SimulatedLab {
  public:
   explicit SimulatedLab(SimulatedLabOptions opt = {});

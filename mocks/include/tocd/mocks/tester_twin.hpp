@@ -48,6 +48,9 @@ class TesterTwin {
   /// Current pin position (mm) and displacement into the sample (mm, >= 0).
   double position_mm() const;
   double displacement_mm() const;
+  /// The displacement whose water content the sample has reached: it follows displacement_mm()
+  /// with the relaxation time (first-order drainage, docs/instruments/simulated-lab.md).
+  double drained_displacement_mm() const;
 
   // Fault hooks.
   void inject(const ModbusFault& fault);
