@@ -146,6 +146,45 @@ TEST(PlotBars, SvgIsXmlWithOneFilledElementPerBar) {
   EXPECT_EQ(bars, 4);
 }
 
+// Bar lengths follow |dT| from the zero line, to the right for positive effects and to the left
+// for negative ones; a bar within two standard errors of zero is drawn pale.
+TEST(PlotTornado, BarsRunBothWaysFromZeroAndUnresolvedOnesArePale) {
+  TornadoFigure f;
+  f.labels = {"threshold: -0.6", "kinematics: plane strain", "pin length: 2.8"};
+  f.values = {-0.010, 0.005, 0.0004};
+  f.errors = {0.0004, 0.0004, 0.0004};
+  const FigureSize size{800, 400};
+  const fs::path png = out_file("tornado.png");
+  write_figure(f, png, size);
+  QImage img(QString::fromStdString(png.string()));
+  ASSERT_FALSE(img.isNull());
+  const PixelRect base = chart_area(size);
+  auto row = [&](int k) {
+    return static_cast<int>(base.y + (k + 0.5) * base.height / 3 - 6);
+  };  // off the error bar
+  auto run = [&](int y, Rgb colour, int& first, int& last) {
+    first = -1, last = -1;
+    for (int x = 0; x < img.width(); ++x)
+      if (same(img.pixelColor(x, y), colour)) {
+        if (first < 0) first = x;
+        last = x;
+      }
+    return first >= 0 ? last - first + 1 : 0;
+  };
+  int f0 = 0, l0 = 0, f1 = 0, l1 = 0, f2 = 0, l2 = 0;
+  const int w0 = run(row(0), kMeasuredColour, f0, l0);
+  const int w1 = run(row(1), kMeasuredColour, f1, l1);
+  ASSERT_GT(w1, 10);
+  EXPECT_NEAR(static_cast<double>(w0) / w1, 2.0, 0.05) << "lengths 0.010 : 0.005";
+  // Between them: the 1 px zero line and an antialiased column on either side.
+  EXPECT_NEAR(l0, f1, 4) << "the negative bar ends where the positive one starts: at zero";
+  EXPECT_EQ(run(row(2), kMeasuredColour, f2, l2), 0);
+  EXPECT_GT(run(row(2), kUnresolvedColour, f2, l2), 0);
+  EXPECT_NEAR(f2, f1, 2);
+  f.errors.pop_back();
+  EXPECT_THROW(write_figure(f, png, size), tocd::ConfigError);
+}
+
 TEST(PlotBars, RefusesNonFiniteValuesAndMismatchedLabels) {
   BarFigure f = three_bars();
   f.values[1] = NAN;

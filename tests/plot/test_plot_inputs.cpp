@@ -78,3 +78,18 @@ TEST(PlotStudyJson, WrongFilesAndColumnsAreNamed) {
   const auto m = message_of([&] { parse_study_bars(j, "Tx", "s.json"); });
   EXPECT_NE(m.find("simulation 4 has no column 'Tx'"), std::string::npos) << m;
 }
+
+TEST(PlotSensitivityJson, OneBarPerTornadoRowInItsOrder) {
+  const std::string j = R"({"base": {"T": 0.3179}, "rows": [],
+    "tornado": [{"factor": "compressed threshold", "label": "-0.6 log strain", "dT": -0.0107, "dT_se": 0.00045},
+                {"factor": "slide index", "label": "1.52", "dT": -0.0021, "dT_se": 0.0001}]})";
+  const auto f = parse_sensitivity_tornado(j, "s.json");
+  ASSERT_EQ(f.values.size(), 2u);
+  EXPECT_EQ(f.labels[0], "compressed threshold: -0.6 log strain");
+  EXPECT_DOUBLE_EQ(f.values[1], -0.0021);
+  EXPECT_DOUBLE_EQ(f.errors[0], 0.00045);
+  EXPECT_NE(f.title.find("0.3179"), std::string::npos);
+  const auto m = message_of([&] { parse_sensitivity_tornado(R"({"simulations": []})", "study.json"); });
+  EXPECT_NE(m.find("study.json"), std::string::npos) << m;
+  EXPECT_NE(m.find("study sensitivity --json"), std::string::npos) << m;
+}

@@ -121,6 +121,7 @@ SensitivityTable run_sensitivity(Predictor& predictor, const PredictionRequest& 
       row.resolved = std::abs(row.dT) > 2 * row.dT_se;
     } catch (const tocd::Error& e) {
       say(fmt::format("{} = {}: not computed: {}", v.factor, v.label, e.what()));
+      table.not_computed.push_back({v, e.what()});
       continue;
     }
     row.seconds = seconds_since(t1);
@@ -143,6 +144,8 @@ std::string format_sensitivity(const SensitivityTable& t) {
     s += fmt::format("{:<28} {:<18} {:>10.6f} {:>+10.6f} {:>10.6f} {:>+8.2f}  {}\n", r.variant.factor,
                      r.variant.label, r.T, r.dT, r.dT_se, 100 * r.dT / t.T,
                      r.resolved ? "yes" : "below MC error");
+  for (const auto& n : t.not_computed)
+    s += fmt::format("{:<28} {:<18} not computed: {}\n", n.variant.factor, n.variant.label, n.reason);
   return s;
 }
 
@@ -171,6 +174,10 @@ nlohmann::json to_json(const SensitivityTable& t) {
     tornado.push_back(
         {{"factor", r->variant.factor}, {"label", r->variant.label}, {"dT", r->dT}, {"dT_se", r->dT_se}});
   j["tornado"] = tornado;
+  auto missing = nlohmann::json::array();
+  for (const auto& n : t.not_computed)
+    missing.push_back({{"factor", n.variant.factor}, {"label", n.variant.label}, {"reason", n.reason}});
+  j["not_computed"] = missing;
   j["seconds"] = t.seconds;
   return j;
 }

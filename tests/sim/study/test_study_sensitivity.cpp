@@ -26,8 +26,16 @@ TEST(StudySensitivity, CommonRandomNumbersResolveWhatIndependentRunsCannot) {
   st::SensitivityVariant same{"nothing", "same request", base};
   st::SensitivityVariant slide{"slide index", "1.52", base};
   slide.request.slide_n = 1.52;
-  const auto t = st::run_sensitivity(predictor, base, {same, slide});
+  st::SensitivityVariant impossible{"pin", "through the skin", base};
+  impossible.request.displacement_mm = base.thickness_mm + 1;  // refused before any work
+  const auto t = st::run_sensitivity(predictor, base, {same, slide, impossible});
   ASSERT_EQ(t.rows.size(), 2u);
+  // A variant that cannot be predicted is listed with its reason, never dropped silently.
+  ASSERT_EQ(t.not_computed.size(), 1u);
+  EXPECT_EQ(t.not_computed[0].variant.label, "through the skin");
+  EXPECT_FALSE(t.not_computed[0].reason.empty());
+  EXPECT_NE(st::format_sensitivity(t).find("through the skin   not computed: "), std::string::npos)
+      << st::format_sensitivity(t);
 
   // The batches add up exactly to one predict() of the same request.
   const auto whole = predictor.predict(base);
@@ -51,6 +59,9 @@ TEST(StudySensitivity, CommonRandomNumbersResolveWhatIndependentRunsCannot) {
   ASSERT_EQ(j["tornado"].size(), 2u);
   EXPECT_EQ(j["tornado"][0]["label"], "1.52");  // sorted by |dT|
   EXPECT_EQ(j["rows"][1]["config"]["slide_n"], 1.52);
+  ASSERT_EQ(j["not_computed"].size(), 1u);
+  EXPECT_EQ(j["not_computed"][0]["factor"], "pin");
+  EXPECT_EQ(j["not_computed"][0]["reason"], t.not_computed[0].reason);
 }
 
 TEST(StudySensitivity, VariantsChangeOneChoiceEach) {

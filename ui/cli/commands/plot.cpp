@@ -41,6 +41,8 @@ struct PlotOptions {
   double poisson = 0.49;
   // study
   std::string study_json, column = "T_rel_b";
+  // sensitivity
+  std::string sensitivity_json;
   std::string title;
 };
 
@@ -201,6 +203,18 @@ void install_plot(CLI::App& root) {
       ->capture_default_str();
   study->callback([o] {
     plot::BarFigure f = plot::read_study_bars(o->study_json, o->column);
+    if (!o->title.empty()) f.title = o->title;
+    plot::write_figure(f, o->output, o->size);
+    wrote(*o);
+  });
+
+  auto* sensitivity = cmd->add_subcommand(
+      "sensitivity", "The tornado of a sensitivity study (tocdlab study sensitivity --json > FILE)");
+  add_common(sensitivity, *o);
+  sensitivity->add_option("sensitivity", o->sensitivity_json, "the sensitivity study's JSON output")
+      ->required();
+  sensitivity->callback([o] {
+    plot::TornadoFigure f = plot::read_sensitivity_tornado(o->sensitivity_json);
     if (!o->title.empty()) f.title = o->title;
     plot::write_figure(f, o->output, o->size);
     wrote(*o);

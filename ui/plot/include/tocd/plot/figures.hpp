@@ -78,6 +78,16 @@ struct BarFigure {
   std::vector<double> values, errors;
 };
 
+/// A tornado chart: one horizontal bar per factor, its effect (dT) with +- its standard error,
+/// largest |effect| on top. Bars whose effect is within `resolution` standard errors of zero
+/// are drawn pale: below the Monte Carlo error.
+struct TornadoFigure {
+  std::string title, x_label;
+  std::vector<std::string> labels;
+  std::vector<double> values, errors;
+  double resolution = 2.0;
+};
+
 /// The data area of the charts (compare, fit, bars) for a figure of `size`.
 PixelRect chart_area(FigureSize size);
 
@@ -87,6 +97,7 @@ void write_figure(const SliceFigure& figure, const std::filesystem::path& path, 
 void write_figure(const CompareFigure& figure, const std::filesystem::path& path, FigureSize size = {});
 void write_figure(const FitFigure& figure, const std::filesystem::path& path, FigureSize size = {});
 void write_figure(const BarFigure& figure, const std::filesystem::path& path, FigureSize size = {});
+void write_figure(const TornadoFigure& figure, const std::filesystem::path& path, FigureSize size = {});
 
 /// The colour ramp of the fluence scale, t in [0, 1] (clamped) from low to high: viridis,
 /// whose lightness rises monotonically, so it reads correctly in grey too. {r, g, b} 0..255.
@@ -101,5 +112,6 @@ inline constexpr Rgb kRegionOutlineColour{255, 255, 255};
 inline constexpr Rgb kMeasuredColour{31, 119, 180};  ///< measured points, data points, bars
 inline constexpr Rgb kPredictedColour{214, 39, 40};  ///< predictions and fitted curves
 inline constexpr Rgb kBackgroundColour{255, 255, 255};
+inline constexpr Rgb kUnresolvedColour{174, 199, 232};  ///< tornado bars below their error
 
 }  // namespace tocd::plot

@@ -22,4 +22,9 @@ BarFigure read_study_bars(const std::filesystem::path& json_path, const std::str
 BarFigure parse_study_bars(const std::string& json_text, const std::string& column,
                            const std::string& source_name);
 
+/// The tornado of `tocdlab study sensitivity --json` (its `tornado` array: factor, label, dT,
+/// dT_se, sorted by |dT|). Throws tocd::ConfigError naming the file and what is missing.
+TornadoFigure read_sensitivity_tornado(const std::filesystem::path& json_path);
+TornadoFigure parse_sensitivity_tornado(const std::string& json_text, const std::string& source_name);
+
 }  // namespace tocd::plot

@@ -42,6 +42,13 @@ struct SensitivityTable {
   PredictionRequest base;
   double T = 0, T_se = 0;  ///< of the base request
   std::vector<SensitivityRow> rows;
+  /// Variants the chain could not predict (an FE that does not reach the step, an unstable
+  /// law), with the reason: listed, so that a missing row is never silent.
+  struct NotComputed {
+    SensitivityVariant variant;
+    std::string reason;
+  };
+  std::vector<NotComputed> not_computed;
   double seconds = 0;
 };
 
