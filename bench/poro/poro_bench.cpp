@@ -1,5 +1,6 @@
-// Prints the cost of one hold's time course with the request defaults (pin to 0.625 mm in 30 s,
-// hold 60 s, transmission at 0, 10, 30, 60 s with water-content optics, 20 000 photons each).
+// Prints the cost of one hold's time course with the request defaults (pin to 1.25 mm in 30 s,
+// drained Poisson's ratio 0.3, hold 60 s, transmission at 0, 10, 30, 60 s with water-content
+// optics, 20 000 photons each).
 #include <chrono>
 #include <cstdio>
 #include <string>

@@ -56,8 +56,8 @@ struct TopPlate {
 
 /// A rigid pin (hemispherical tip of `radius_mm` on a cylindrical shaft of the same radius,
 /// on the axis x = 0) pressed into the top side; frictionless augmented-Lagrangian contact on
-/// the top nodes. Where the top is drained, the nodes in contact are sealed by the glass (the
-/// drained set follows the contact of the previous time step).
+/// the top nodes. Where the top is drained, the glass seals it from the axis to the contact
+/// edge of the previous time step.
 struct Pin {
   bool enabled = false;
   double radius_mm = 1.5;

@@ -12,7 +12,9 @@ namespace tocd::sim::poro {
 /// The converged state after a time step.
 struct PoroState {
   double time_s = 0;
-  int newton_iterations = 0;
+  int newton_iterations = 0;  ///< over all sub-steps of the last advance_to
+  /// Times the last advance_to halved a step whose Newton iteration failed (0: one step).
+  int step_halvings = 0;
   double plate_displacement_mm = 0;  ///< downward, positive in compression
   double plate_force_N = 0;          ///< compressive force the skeleton + water carry
   /// Water that left through drained sides since t = 0 [mm^3] (the consistent nodal
@@ -38,7 +40,9 @@ class PoroSolver {
   PoroSolver& operator=(const PoroSolver&) = delete;
 
   /// Advances to `time_s` (> current time) in one backward-Euler step with the loads at that
-  /// time. Throws PoroError if Newton does not converge (the state is left unchanged).
+  /// time; a step whose Newton iteration fails is retried as two half steps, down to 1/1024
+  /// of it. Throws PoroError when even that fails (the state is left at the last converged
+  /// sub-step).
   const PoroState& advance_to(double time_s);
   const PoroState& state() const;
 
