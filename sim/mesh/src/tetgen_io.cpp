@@ -136,8 +136,10 @@ TetMesh read_tetgen(const std::filesystem::path& prefix) {
     mesh.nodes.resize(static_cast<std::size_t>(count));
     for (std::int64_t i = 0; i < count; ++i) {
       const auto row = r.require(4, "a node row (index x y z)");
-      if (i == 0) base = static_cast<std::int64_t>(row[0]);
-      if (base != 0 && base != 1) r.fail("node indices must start at 0 or 1");
+      // Compared as a double before any conversion: a first index of 1e37 must be an error,
+      // not an out-of-range cast (found by the tetgen_mesh fuzz target).
+      if (i == 0 && row[0] != 0 && row[0] != 1) r.fail("node indices must start at 0 or 1");
+      if (i == 0) base = row[0] == 1 ? 1 : 0;
       const auto idx = r.as_index(row[0], base, count, "node index");
       mesh.nodes[static_cast<std::size_t>(idx)] = {r.as_coordinate(row[1], 'x'), r.as_coordinate(row[2], 'y'),
                                                    r.as_coordinate(row[3], 'z')};

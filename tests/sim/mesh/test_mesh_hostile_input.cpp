@@ -54,6 +54,12 @@ TEST(MeshHostile, ValidBaseMeshReads) {
   EXPECT_EQ(read_error("base", kNode, kEle, "1 1\n0 0 1 2 4\n"), "");
 }
 
+TEST(MeshHostile, AFirstNodeIndexBeyondEveryIntegerIsRefused) {
+  const std::string big = read_error("big", "4 3 0 0\n1e37 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n", kEle);
+  EXPECT_TRUE(has(big, "node indices must start at 0 or 1")) << big;
+  EXPECT_TRUE(has(big, "big.node:2")) << big;
+}
+
 TEST(MeshHostile, NonFiniteCoordinatesAreRefusedWithFileAndLine) {
   const std::string nan = read_error("nan", "4 3 0 0\n0 0 0 0\n1 nan 0 0\n2 0 1 0\n3 0 0 1\n", kEle);
   EXPECT_TRUE(has(nan, "nan.node:3")) << nan;
