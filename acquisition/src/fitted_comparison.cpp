@@ -25,23 +25,13 @@ namespace mat = tocd::sim::material;
 namespace st = tocd::sim::study;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-mat::OgdenParameters law_from_json(const nlohmann::json& j) {
-  mat::OgdenParameters p;
-  p.mu = j.at("mu_MPa").get<std::vector<double>>();
-  p.alpha = j.at("alpha").get<std::vector<double>>();
-  p.D = j.at("D_per_MPa").get<std::vector<double>>();
-  p.validate();
-  return p;
-}
-
 void read_fit_file(const std::string& path, FittedComparison& out) {
   std::ifstream in(path);
   if (!in) throw tocd::ConfigError(fmt::format("--material {}: cannot open the file", path));
   try {
-    const auto j = nlohmann::json::parse(in);
-    for (const auto& c : j.at("confidence_laws"))
-      out.band_laws.emplace_back(c.at("label").get<std::string>(), law_from_json(c));
-    out.law = law_from_json(j.at("ogden"));
+    auto fit = fe::fitted_laws_from_json(nlohmann::json::parse(in));
+    out.law = fit.law;
+    out.band_laws = std::move(fit.confidence_laws);
   } catch (const nlohmann::json::exception& e) {
     throw tocd::ConfigError(
         fmt::format("--material {}: expected 'fitted' or the output of `tocdlab fit --method fe --json` ({})",

@@ -368,6 +368,32 @@ InverseFitResult fit_material(const std::vector<PinCompressionData>& pins,
   return out;
 }
 
+namespace {
+
+// One law as the fit's JSON holds it; law_from_json reads it back.
+nlohmann::json law_json(const mat::OgdenParameters& p) {
+  return {{"mu_MPa", p.mu}, {"alpha", p.alpha}, {"D_per_MPa", p.D}};
+}
+
+mat::OgdenParameters law_from_json(const nlohmann::json& j) {
+  mat::OgdenParameters p;
+  p.mu = j.at("mu_MPa").get<std::vector<double>>();
+  p.alpha = j.at("alpha").get<std::vector<double>>();
+  p.D = j.at("D_per_MPa").get<std::vector<double>>();
+  p.validate();
+  return p;
+}
+
+}  // namespace
+
+FittedLaws fitted_laws_from_json(const nlohmann::json& fit) {
+  FittedLaws out;
+  out.law = law_from_json(fit.at("ogden"));
+  for (const auto& c : fit.at("confidence_laws"))
+    out.confidence_laws.emplace_back(c.at("label").get<std::string>(), law_from_json(c));
+  return out;
+}
+
 nlohmann::json to_json(const InverseFitResult& r) {
   nlohmann::json j;
   j["model"] = to_string(r.model);
@@ -389,12 +415,15 @@ nlohmann::json to_json(const InverseFitResult& r) {
     cov.push_back(jr);
   }
   j["covariance"] = cov;
-  j["ogden"] = {{"mu_MPa", r.material.mu}, {"alpha", r.material.alpha}, {"D_per_MPa", r.material.D}};
+  j["ogden"] = law_json(r.material);
   j["residual_variance"] = r.residual_variance;
   j["poisson_ratio"] = r.poisson_ratio;
   auto laws = nlohmann::json::array();
-  for (const auto& [label, law] : r.confidence_laws)
-    laws.push_back({{"label", label}, {"mu_MPa", law.mu}, {"alpha", law.alpha}, {"D_per_MPa", law.D}});
+  for (const auto& [label, law] : r.confidence_laws) {
+    auto l = law_json(law);
+    l["label"] = label;
+    laws.push_back(l);
+  }
   j["confidence_laws"] = laws;
   j["t_quantile"] = r.t_quantile;
   auto ds = nlohmann::json::array();

@@ -19,6 +19,7 @@
 #include "progress.hpp"
 #include "tocd/core/atomic_file.hpp"
 #include "tocd/core/error.hpp"
+#include "tocd/sim/fe/inverse_fit.hpp"
 #include "tocd/sim/parallel/team.hpp"
 #include "tocd/sim/study/sensitivity.hpp"
 #include "vtu_format_option.hpp"
@@ -127,18 +128,10 @@ void read_fit(const std::string& path, SensitivityOptions& o,
               std::vector<std::pair<std::string, tocd::sim::material::OgdenParameters>>& laws) {
   std::ifstream in(path);
   if (!in) throw tocd::ConfigError(fmt::format("--fit {}: cannot open the file", path));
-  auto law = [&](const nlohmann::json& j) {
-    tocd::sim::material::OgdenParameters p;
-    p.mu = j.at("mu_MPa").get<std::vector<double>>();
-    p.alpha = j.at("alpha").get<std::vector<double>>();
-    p.D = j.at("D_per_MPa").get<std::vector<double>>();
-    p.validate();
-    return p;
-  };
   try {
-    const auto j = nlohmann::json::parse(in);
-    o.base.material = law(j.at("ogden"));
-    for (const auto& c : j.at("confidence_laws")) laws.emplace_back(c.at("label").get<std::string>(), law(c));
+    auto fit = tocd::sim::fe::fitted_laws_from_json(nlohmann::json::parse(in));
+    o.base.material = fit.law;
+    laws = std::move(fit.confidence_laws);
   } catch (const nlohmann::json::exception& e) {
     throw tocd::ConfigError(fmt::format(
         "--fit {}: expected the output of `tocdlab fit --method fe --json` ({})", path, e.what()));

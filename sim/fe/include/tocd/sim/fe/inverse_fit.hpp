@@ -98,4 +98,13 @@ std::vector<double> pin_force_curve(const PinCompressionData& data,
 
 nlohmann::json to_json(const InverseFitResult& result);
 
+/// What a fit's JSON (to_json, `tocdlab fit --method fe --json`) gives its readers: the fitted
+/// law and the laws at the ends of its confidence-ellipsoid axes, each validated. Throws
+/// nlohmann::json::exception for a missing or mistyped key, MaterialError for a bad law.
+struct FittedLaws {
+  tocd::sim::material::OgdenParameters law;
+  std::vector<std::pair<std::string, tocd::sim::material::OgdenParameters>> confidence_laws;
+};
+FittedLaws fitted_laws_from_json(const nlohmann::json& fit);
+
 }  // namespace tocd::sim::fe
