@@ -93,11 +93,17 @@ class Solver {
         }
         du = lu.solve(-ev_.residual);
       }
-      const double slope = ev_.residual.dot(du);
-      if (!du.allFinite() || slope >= 0) {
-        why = "no descent direction";
-        return false;
+      if (!du.allFinite() || ev_.residual.dot(du) >= 0) {
+        // The tangent is indefinite here (past a bifurcation of the compressed skin, where
+        // a plane-stress section may fold): its Newton step climbs the energy. The shifted
+        // tangent K + tau I, positive definite, gives a descent direction towards the stable
+        // branch; tau as small as makes it so, so Newton's rate returns where K is definite.
+        if (!shifted_direction(K, du)) {
+          why = "no descent direction";
+          return false;
+        }
       }
+      const double slope = ev_.residual.dot(du);
       // Line search on the total energy; a trial that inverts an element is never accepted.
       double s = 1;
       bool accepted = false;
@@ -132,6 +138,23 @@ class Solver {
       return true;
     why = fmt::format("no convergence in {} Newton iterations (residual {:.2e} of force scale {:.2e})",
                       model_.solver.max_newton_iterations, ev_.residual_norm, ev_.internal_force_norm);
+    return false;
+  }
+
+  // Smallest tau = 10^k x 1e-8 x the largest diagonal entry making K + tau I positive definite
+  // (LDL^T succeeds with every pivot positive); false when none up to the diagonal's size does.
+  bool shifted_direction(const Eigen::SparseMatrix<double>& K, VectorXd& du) {
+    const double scale = K.diagonal().cwiseAbs().maxCoeff();
+    if (!(scale > 0) || !std::isfinite(scale)) return false;
+    Eigen::SparseMatrix<double> identity(K.rows(), K.cols());
+    identity.setIdentity();
+    for (double tau = 1e-8 * scale; tau <= scale; tau *= 10) {
+      const Eigen::SparseMatrix<double> shifted = K + tau * identity;
+      Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(shifted);
+      if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0).all()) continue;
+      du = ldlt.solve(-ev_.residual);
+      if (du.allFinite() && ev_.residual.dot(du) < 0) return true;
+    }
     return false;
   }
 
