@@ -6,13 +6,12 @@
 #include <fstream>
 #include <limits>
 #include <map>
-#include <numbers>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "tocd/acquisition/compare_table.hpp"
-#include "tocd/acquisition/run_stress_strain.hpp"
+#include "tocd/acquisition/run_pin_data.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/sim/fe/inverse_fit.hpp"
 #include "tocd/sim/study/predictor.hpp"
@@ -39,19 +38,11 @@ void read_fit_file(const std::string& path, FittedComparison& out) {
   }
 }
 
-// `scaled`: one FE solve per evaluation, a handful of evaluations.
+// `scaled`: one FE solve per evaluation, a handful of evaluations. It matches the held loads:
+// the ones the step table shows next to the FE forces (run_pin_data.hpp says why not the curve).
 void fit_here(const db::Reader& reader, std::int64_t run_id, const FittedComparisonOptions& o,
               FittedComparison& out) {
-  const auto ss = stress_strain_from_run(reader, run_id, o.pin_radius_mm, 16);
-  fe::PinCompressionData p;
-  p.name = fmt::format("run {}", run_id);
-  p.model.thickness_mm = ss.thickness_mm;
-  p.model.pin_radius_mm = o.pin_radius_mm;
-  const double area = std::numbers::pi * o.pin_radius_mm * o.pin_radius_mm;
-  for (std::size_t k = 0; k < ss.strain.size(); ++k) {
-    p.displacement_mm.push_back(ss.strain[k] * ss.thickness_mm);
-    p.load_N.push_back(ss.stress_MPa[k] * area);
-  }
+  const fe::PinCompressionData p = pin_data_from_run(reader, run_id, RunLoadPoints::held, o.pin_radius_mm);
   fe::InverseFitOptions fo;
   fo.model = fe::InverseModel::scaled;
   if (o.progress) fo.progress = [&](const std::string& s) { o.progress("fit: " + s); };

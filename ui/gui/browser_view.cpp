@@ -33,7 +33,7 @@ BrowserView::BrowserView(QWidget* parent)
       fit_button_(new QPushButton(tr("Fit the sample's law (FE)"), this)),
       fit_label_(new QLabel(this)) {
   fit_button_->setToolTip(
-      tr("Identify the run's own law from its load-displacement curve through the FE and re-predict "
+      tr("Identify the run's own law from its held step loads through the FE and re-predict "
          "every step with it: fitted T with its Monte Carlo error and the model band over the fit's "
          "confidence laws (tocdlab compare --material fitted)"));
   fit_button_->setEnabled(false);

@@ -150,11 +150,18 @@ void install_fit(CLI::App& root) {
   cmd->add_option("--weight", o->fe.weight, "weight of the --db/--csv dataset in a joint fit (--method fe)")
       ->check(cli::real_above(0.0, 1e12))
       ->capture_default_str();
+  auto* points = cmd->add_option("--points", o->fe.points,
+                                 "a run's loads the FE matches: held (each step's hold, nearest "
+                                 "equilibrium) | loading (the loading curve) (--method fe --db)")
+                     ->check(CLI::IsMember({"held", "loading"}))
+                     ->capture_default_str();
   cmd->add_option("--dataset", o->fe.datasets,
                   "another dataset for a joint fit, MODE:FILE[:WEIGHT]; MODE uniaxial | equibiaxial | "
                   "simple-shear (CSV: signed nominal strain or shear, nominal stress MPa) or pin (CSV: "
                   "displacement mm, load N; geometry from --thickness, --pin-radius); repeatable");
-  cmd->callback([o, bins] {
+  cmd->callback([o, bins, points] {
+    if (points->count() && (o->method != "fe" || o->db.empty()))
+      throw CLI::ValidationError(points->get_name(), "needs --method fe --db FILE --run ID");
     // The FE fit solves once per point and parameter: fewer, wider bins by default.
     if (o->method == "fe") o->fe.bins = bins->count() ? o->bins : o->fe.bins;
     run_fit(*o);

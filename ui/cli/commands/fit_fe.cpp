@@ -4,12 +4,11 @@
 
 #include <cmath>
 #include <iostream>
-#include <numbers>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include "tocd/acquisition/run_stress_strain.hpp"
+#include "tocd/acquisition/run_pin_data.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/sim/fe/inverse_fit.hpp"
@@ -92,20 +91,13 @@ void run_fit_fe(const FitFeOptions& o) {
   std::vector<fe::ClosedFormData> closed;
   if (!o.db.empty()) {
     if (o.run <= 0) throw tocd::ConfigError("--db needs --run ID (see tocdlab runs --db FILE)");
-    const auto ss =
-        tocd::acquisition::stress_strain_from_run(tocd::db::Reader(o.db), o.run, o.pin_radius, o.bins);
-    fe::PinCompressionData p;
-    p.name = fmt::format("run {}", o.run);
-    p.model = geometry(o, o.thickness > 0 ? o.thickness : ss.thickness_mm);
-    const double area = std::numbers::pi * ss.pin_radius_mm * ss.pin_radius_mm;
-    for (std::size_t k = 0; k < ss.strain.size(); ++k) {
-      p.displacement_mm.push_back(ss.strain[k] * ss.thickness_mm);
-      p.load_N.push_back(ss.stress_MPa[k] * area);
-    }
+    const auto points = tocd::acquisition::parse_run_load_points(o.points);
+    fe::PinCompressionData p = tocd::acquisition::pin_data_from_run(tocd::db::Reader(o.db), o.run, points,
+                                                                    o.pin_radius, o.bins, o.thickness);
+    p.model = geometry(o, p.model.thickness_mm);
     p.weight = o.weight;
-    std::cerr << fmt::format(
-        "run {}: {} load/displacement points ({} pairs), {} mm sample, pin radius {} mm\n", o.run,
-        p.load_N.size(), ss.pairs_used, p.model.thickness_mm, o.pin_radius);
+    std::cerr << fmt::format("run {}: {} {} load/displacement points, {} mm sample, pin radius {} mm\n",
+                             o.run, p.load_N.size(), o.points, p.model.thickness_mm, o.pin_radius);
     pins.push_back(std::move(p));
   } else if (!o.csv.empty()) {
     pins.push_back(pin_from_csv(o, o.csv, o.weight));

@@ -1,0 +1,168 @@
+// A recorded run as data for the inverse FE fit: the held loads of its steps, or its loading curve.
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <string>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include "tocd/acquisition/run_pin_data.hpp"
+#include "tocd/acquisition/run_stress_strain.hpp"
+#include "tocd/core/error.hpp"
+#include "tocd/db/database.hpp"
+#include "tocd/db/reader.hpp"
+#include "tocd/db/writer.hpp"
+
+namespace fs = std::filesystem;
+namespace acq = tocd::acquisition;
+
+namespace {
+
+constexpr double kThickness = 2.0, kRadius = 1.5;
+
+struct StepSpec {
+  double target_mm, reported_mm, load_N;
+  bool completed = true;
+};
+
+// Steps with their window statistics (what the engine stores), plus a loading curve of
+// samples 0 -> deepest target so that the loading branch has data as well.
+std::int64_t record_run(const fs::path& path, const std::vector<StepSpec>& steps,
+                        bool with_thickness = true) {
+  tocd::db::Database db(path.string());
+  tocd::db::SampleRecord sample;
+  sample.tissue = "skin";
+  if (with_thickness) sample.thickness_mm = kThickness;
+  tocd::db::NewRun nr;
+  nr.name = "held";
+  nr.sample_id = db.add_sample(sample);
+  const auto run = db.create_run(nr);
+  tocd::db::Channel dc, lc;
+  dc.run_id = lc.run_id = run.id;
+  dc.name = "displacement";
+  dc.unit = "mm";
+  lc.name = "load";
+  lc.unit = "N";
+  const auto d_id = db.add_channel(dc).id, l_id = db.add_channel(lc).id;
+  {
+    tocd::db::Writer w(db);
+    std::int64_t t = 1000;
+    for (int i = 1; i <= 1500; ++i) {
+      w.enqueue(tocd::db::Sample{d_id, t, i * 1e-3});
+      w.enqueue(tocd::db::Sample{l_id, t, 0.1 * i * 1e-3});
+      t += 1000;
+    }
+    w.flush();
+    w.stop();
+  }
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    tocd::db::StepRecord s;
+    s.run_id = run.id;
+    s.index = static_cast<int>(k);
+    s.target_displacement_mm = steps[k].target_mm;
+    s.nominal_strain = steps[k].target_mm / kThickness;
+    s.completed = steps[k].completed;
+    s.channels.push_back({d_id, steps[k].reported_mm, 1e-4, 20});
+    s.channels.push_back({l_id, steps[k].load_N, 1e-3, 20});
+    db.add_step(s);
+  }
+  db.set_run_status(run.id, tocd::db::RunStatus::completed);
+  return run.id;
+}
+
+class RunPinData : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    path_ = fs::temp_directory_path() / fmt::format("tocd_pin_data_{}.db", ::getpid());
+    fs::remove(path_);
+  }
+  void TearDown() override {
+    for (const char* ext : {"", "-wal", "-shm", "-runlock"}) fs::remove(path_.string() + ext);
+  }
+  fs::path path_;
+};
+
+TEST_F(RunPinData, HeldPointsAreEachCompletedStepsMeanLoadAtTheDisplacementTheTesterReported) {
+  const auto id = record_run(path_, {{0.0, 0.0, 0.0},
+                                     {0.25, 0.2497, 0.004},
+                                     {0.5, 0.4991, 0.012},
+                                     {0.75, 0.7488, 0.030, false},  // cut short: no measurement
+                                     {1.0, 0.9993, 0.050}});
+  const auto p =
+      acq::pin_data_from_run(tocd::db::Reader(path_.string()), id, acq::RunLoadPoints::held, kRadius);
+  ASSERT_EQ(p.displacement_mm.size(), 3u) << "the flat step and the step cut short do not enter";
+  EXPECT_DOUBLE_EQ(p.displacement_mm[0], 0.2497);
+  EXPECT_DOUBLE_EQ(p.displacement_mm[1], 0.4991);
+  EXPECT_DOUBLE_EQ(p.displacement_mm[2], 0.9993);
+  EXPECT_DOUBLE_EQ(p.load_N[0], 0.004);
+  EXPECT_DOUBLE_EQ(p.load_N[1], 0.012);
+  EXPECT_DOUBLE_EQ(p.load_N[2], 0.050);
+  EXPECT_DOUBLE_EQ(p.model.thickness_mm, kThickness);
+  EXPECT_DOUBLE_EQ(p.model.pin_radius_mm, kRadius);
+  // An explicit thickness replaces the recorded one; the points stay displacements.
+  const auto q = acq::pin_data_from_run(tocd::db::Reader(path_.string()), id, acq::RunLoadPoints::held,
+                                        kRadius, 16, 2.5);
+  EXPECT_DOUBLE_EQ(q.model.thickness_mm, 2.5);
+  EXPECT_DOUBLE_EQ(q.displacement_mm[2], 0.9993);
+}
+
+TEST_F(RunPinData, LoadingPointsAreTheBinnedLoadingCurveAsLoads) {
+  const auto id = record_run(path_, {{0.5, 0.5, 0.05}, {1.0, 1.0, 0.1}});
+  const tocd::db::Reader reader(path_.string());
+  const auto p = acq::pin_data_from_run(reader, id, acq::RunLoadPoints::loading, kRadius, 10);
+  const auto ss = acq::stress_strain_from_run(reader, id, kRadius, 10);
+  ASSERT_EQ(p.displacement_mm.size(), ss.strain.size());
+  const double area = std::numbers::pi * kRadius * kRadius;
+  for (std::size_t k = 0; k < ss.strain.size(); ++k) {
+    EXPECT_NEAR(p.displacement_mm[k], ss.strain[k] * kThickness, 1e-12);
+    EXPECT_NEAR(p.load_N[k], ss.stress_MPa[k] * area, 1e-12);
+    // The recorded curve is load = 0.1 N/mm x d: each bin's mean pair lies on it.
+    EXPECT_NEAR(p.load_N[k], 0.1 * p.displacement_mm[k], 1e-9);
+  }
+}
+
+TEST_F(RunPinData, HeldLoadsOfARunThatGoesBackAreRefusedNamingTheStep) {
+  const auto id = record_run(path_, {{0.5, 0.5, 0.02}, {1.0, 1.0, 0.05}, {0.75, 0.75, 0.03}});
+  try {
+    acq::pin_data_from_run(tocd::db::Reader(path_.string()), id, acq::RunLoadPoints::held, kRadius);
+    FAIL() << "expected an error";
+  } catch (const tocd::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("step 2"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--points loading"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(RunPinData, TooFewPointsOrNoThicknessAreClearErrors) {
+  {
+    const auto id = record_run(path_, {{0.0, 0.0, 0.0}, {0.5, 0.5, 0.02}});
+    try {
+      acq::pin_data_from_run(tocd::db::Reader(path_.string()), id, acq::RunLoadPoints::held, kRadius);
+      FAIL() << "expected an error";
+    } catch (const tocd::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("only 1 held"), std::string::npos) << e.what();
+    }
+  }
+  TearDown();
+  const auto id = record_run(path_, {{0.5, 0.5, 0.02}, {1.0, 1.0, 0.05}}, false);
+  try {
+    acq::pin_data_from_run(tocd::db::Reader(path_.string()), id, acq::RunLoadPoints::held, kRadius);
+    FAIL() << "expected an error";
+  } catch (const tocd::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("thickness"), std::string::npos) << e.what();
+  }
+}
+
+TEST(RunLoadPoints, NamesRoundTripAndAnUnknownNameIsRefusedByName) {
+  for (auto p : {acq::RunLoadPoints::held, acq::RunLoadPoints::loading})
+    EXPECT_EQ(acq::parse_run_load_points(acq::to_string(p)), p);
+  try {
+    acq::parse_run_load_points("relaxed");
+    FAIL() << "expected an error";
+  } catch (const tocd::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("relaxed"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
