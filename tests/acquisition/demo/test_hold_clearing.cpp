@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include "tester_run.hpp"
 #include "tocd/acquisition/hold_clearing.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/db/database.hpp"
@@ -20,17 +21,7 @@ namespace {
 constexpr double kBaseline = 2e-3;  // W
 constexpr std::int64_t kSecond = 1'000'000'000;
 
-class HoldClearing : public ::testing::Test {
- protected:
-  void SetUp() override {
-    path_ = fs::temp_directory_path() / fmt::format("tocd_hold_{}.db", ::getpid());
-    fs::remove(path_);
-  }
-  void TearDown() override {
-    for (const char* ext : {"", "-wal", "-shm", "-runlock"}) fs::remove(path_.string() + ext);
-  }
-  fs::path path_;
-};
+class HoldClearing : public tocd::acquisition::testing::TempDatabaseTest {};
 
 // Two steps recorded over 5 s each at 10 Hz: step 1's power rises linearly (P = P0 (0.2 + 0.01 t)),
 // step 2's stays flat; a third step was cut short and is left out.

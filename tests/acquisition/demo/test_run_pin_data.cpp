@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include "tester_run.hpp"
 #include "tocd/acquisition/run_pin_data.hpp"
 #include "tocd/acquisition/run_stress_strain.hpp"
 #include "tocd/core/error.hpp"
@@ -32,20 +33,9 @@ struct StepSpec {
 std::int64_t record_run(const fs::path& path, const std::vector<StepSpec>& steps,
                         bool with_thickness = true) {
   tocd::db::Database db(path.string());
-  tocd::db::SampleRecord sample;
-  sample.tissue = "skin";
-  if (with_thickness) sample.thickness_mm = kThickness;
-  tocd::db::NewRun nr;
-  nr.name = "held";
-  nr.sample_id = db.add_sample(sample);
-  const auto run = db.create_run(nr);
-  tocd::db::Channel dc, lc;
-  dc.run_id = lc.run_id = run.id;
-  dc.name = "displacement";
-  dc.unit = "mm";
-  lc.name = "load";
-  lc.unit = "N";
-  const auto d_id = db.add_channel(dc).id, l_id = db.add_channel(lc).id;
+  const auto run =
+      tocd::acquisition::testing::create_tester_run(db, with_thickness ? kThickness : std::nan(""), "held");
+  const auto d_id = run.displacement_channel, l_id = run.load_channel;
   {
     tocd::db::Writer w(db);
     std::int64_t t = 1000;
@@ -59,7 +49,7 @@ std::int64_t record_run(const fs::path& path, const std::vector<StepSpec>& steps
   }
   for (std::size_t k = 0; k < steps.size(); ++k) {
     tocd::db::StepRecord s;
-    s.run_id = run.id;
+    s.run_id = run.run_id;
     s.index = static_cast<int>(k);
     s.target_displacement_mm = steps[k].target_mm;
     s.nominal_strain = steps[k].target_mm / kThickness;
@@ -68,21 +58,11 @@ std::int64_t record_run(const fs::path& path, const std::vector<StepSpec>& steps
     s.channels.push_back({l_id, steps[k].load_N, 1e-3, 20});
     db.add_step(s);
   }
-  db.set_run_status(run.id, tocd::db::RunStatus::completed);
-  return run.id;
+  db.set_run_status(run.run_id, tocd::db::RunStatus::completed);
+  return run.run_id;
 }
 
-class RunPinData : public ::testing::Test {
- protected:
-  void SetUp() override {
-    path_ = fs::temp_directory_path() / fmt::format("tocd_pin_data_{}.db", ::getpid());
-    fs::remove(path_);
-  }
-  void TearDown() override {
-    for (const char* ext : {"", "-wal", "-shm", "-runlock"}) fs::remove(path_.string() + ext);
-  }
-  fs::path path_;
-};
+class RunPinData : public tocd::acquisition::testing::TempDatabaseTest {};
 
 TEST_F(RunPinData, HeldPointsAreEachCompletedStepsMeanLoadAtTheDisplacementTheTesterReported) {
   const auto id = record_run(path_, {{0.0, 0.0, 0.0},

@@ -1,7 +1,7 @@
 // Nominal stress-strain data from a recorded run (the input of `tocdlab fit --db`).
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <algorithm>
 #include <numbers>
 #include <vector>
 
@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include "tester_run.hpp"
 #include "tocd/acquisition/run_stress_strain.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/db/database.hpp"
@@ -28,20 +29,9 @@ double load_of(double d) {
 // A run whose pin goes 0 -> 1.2 mm (loading), holds with the load relaxing, and retracts.
 std::int64_t record_run(const fs::path& path, bool with_thickness) {
   tocd::db::Database db(path.string());
-  tocd::db::SampleRecord sample;
-  sample.tissue = "skin";
-  if (with_thickness) sample.thickness_mm = kThickness;
-  tocd::db::NewRun nr;
-  nr.name = "synthetic";
-  nr.sample_id = db.add_sample(sample);
-  const auto run = db.create_run(nr);
-  tocd::db::Channel dc, lc;
-  dc.run_id = lc.run_id = run.id;
-  dc.name = "displacement";
-  dc.unit = "mm";
-  lc.name = "load";
-  lc.unit = "N";
-  const auto d_id = db.add_channel(dc).id, l_id = db.add_channel(lc).id;
+  const auto run = tocd::acquisition::testing::create_tester_run(
+      db, with_thickness ? kThickness : std::nan(""), "synthetic");
+  const auto d_id = run.displacement_channel, l_id = run.load_channel;
   tocd::db::Writer w(db);
   std::int64_t t = 1000;
   auto put = [&](double d, double load) {
@@ -54,21 +44,11 @@ std::int64_t record_run(const fs::path& path, bool with_thickness) {
   for (int i = 1200; i >= 0; i -= 2) put(i * 1e-3, 0.2 * load_of(i * 1e-3));  // retraction: excluded
   w.flush();
   w.stop();
-  db.set_run_status(run.id, tocd::db::RunStatus::completed);
-  return run.id;
+  db.set_run_status(run.run_id, tocd::db::RunStatus::completed);
+  return run.run_id;
 }
 
-class RunStressStrain : public ::testing::Test {
- protected:
-  void SetUp() override {
-    path_ = fs::temp_directory_path() / fmt::format("tocd_ss_{}.db", ::getpid());
-    fs::remove(path_);
-  }
-  void TearDown() override {
-    for (const char* ext : {"", "-wal", "-shm", "-runlock"}) fs::remove(path_.string() + ext);
-  }
-  fs::path path_;
-};
+class RunStressStrain : public tocd::acquisition::testing::TempDatabaseTest {};
 
 TEST_F(RunStressStrain, LoadingBranchBinnedIntoNominalStressAndStrain) {
   const auto id = record_run(path_, true);
