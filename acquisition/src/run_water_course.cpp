@@ -179,7 +179,8 @@ RunWaterCourse run_water_course(const db::Reader& reader, std::int64_t run_id,
     ws.window_from_s = seconds_between(out.history.t0_ns, s.recorded_from_t_ns);
     ws.window_to_s = seconds_between(out.history.t0_ns, s.recorded_to_t_ns);
     const std::int64_t a = s.recorded_from_t_ns + half, b = s.recorded_to_t_ns - half;
-    const int n = b > a ? o.points_per_hold : 1;
+    // Points closer than an averaging window would share their samples: one, in the middle.
+    const int n = b - a >= 2 * half ? o.points_per_hold : 1;
     for (int k = 0; k < n; ++k) {
       const std::int64_t at = n == 1
                                   ? (s.recorded_from_t_ns + s.recorded_to_t_ns) / 2

@@ -41,7 +41,8 @@ MeasuredT measured_T_between(const db::Reader& reader, std::int64_t power_channe
 
 struct RunWaterCourseOptions {
   /// Time points per step's recording window, evenly spaced from `window_s`/2 after its start
-  /// to `window_s`/2 before its end (one, the middle, when the window is shorter than that).
+  /// to `window_s`/2 before its end (one, the middle, when the recording window is shorter than
+  /// two averaging windows).
   int points_per_hold = 3;
   double window_s = 1.0;  ///< the measured T at a point is averaged over this, centred on it
   double pin_radius_mm = 1.5;
