@@ -220,6 +220,9 @@ RunWaterCourse run_water_course(const db::Reader& reader, std::int64_t run_id,
       p.failure = q.failure;
       p.pin_force_N = q.pin_force_N;
       p.water_outflow_mm3 = q.water_outflow_mm3;
+      p.fe_seconds = q.fe_seconds;
+      p.mesh_seconds = q.mesh_seconds;
+      p.mc_seconds = q.mc_seconds;
       if (q.computed) {
         p.T = q.T / base.T;
         p.T_se = p.T * std::hypot(q.T_stderr / q.T, base.T_stderr / base.T);
@@ -282,6 +285,9 @@ nlohmann::json to_json(const RunWaterCourse& c) {
       } else {
         j["failure"] = p.failure;
       }
+      j["fe_seconds"] = p.fe_seconds;
+      j["mesh_seconds"] = p.mesh_seconds;
+      j["mc_seconds"] = p.mc_seconds;
       pts.push_back(j);
     }
     steps.push_back({{"step", st.index + 1},

@@ -67,6 +67,8 @@ struct WaterCoursePoint {
   std::string failure;
   double T = 0, T_se = 0;  ///< T(t) / T(glass-only baseline), as the engine's predictions
   double pin_force_N = 0, water_outflow_mm3 = 0;
+  /// Wall seconds: the FE since the previous point, this point's composite mesh, its Monte Carlo.
+  double fe_seconds = 0, mesh_seconds = 0, mc_seconds = 0;
 };
 
 struct WaterCourseStep {
@@ -98,7 +100,8 @@ RunWaterCourse run_water_course(const db::Reader& reader, std::int64_t run_id,
 std::string format_run_water_course(const RunWaterCourse& c);
 /// {"run", "config", "history", "baseline", "steps": [{step, displacement_mm, window_s: [from, to],
 /// points: [{t_s, t_window_s, displacement_mm, measured_T, measured_T_se, measured_samples,
-/// computed, predicted_T, predicted_T_se, pin_force_N, water_outflow_mm3 | failure}]}]}; NaN as null.
+/// computed, predicted_T, predicted_T_se, pin_force_N, water_outflow_mm3 | failure, fe_seconds,
+/// mesh_seconds, mc_seconds}]}]}; NaN as null.
 nlohmann::json to_json(const RunWaterCourse& c);
 
 }  // namespace tocd::acquisition
