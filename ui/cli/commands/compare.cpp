@@ -39,7 +39,9 @@ void install_compare(CLI::App& root) {
   cmd->add_option("--pin-radius", o->fitted.pin_radius, "pin radius [mm] for the fit (--material fitted)")
       ->check(cli::real_above(0.0, 100.0))
       ->capture_default_str();
-  cmd->add_option("--photons", o->fitted.photons, "photons per re-prediction (default: as stored)")
+  cmd->add_option("--photons", o->fitted.photons,
+                  "photons per re-prediction (--material; default: as stored) or per time point (--optics "
+                  "water; default 20000)")
       ->check(cli::whole_in(std::uint64_t{1}, cli::kMaxPhotons));
   cmd->add_option("--threads", o->fitted.threads, "Monte Carlo threads (0 = all cores)")
       ->check(cli::whole_in(std::int64_t{0}, std::int64_t{cli::kMaxThreads}));
@@ -70,7 +72,9 @@ void install_compare(CLI::App& root) {
                       "water optics: wall seconds the biphasic FE may take; points after are not computed")
           ->check(cli::real_above(0.0, 1e6))
           ->capture_default_str();
-  auto* seed = cmd->add_option("--seed", wc.seed, "water optics: Monte Carlo seed")->capture_default_str();
+  auto* seed = cmd->add_option("--seed", wc.seed, "water optics: Monte Carlo seed")
+                   ->check(cli::whole_in(std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max()))
+                   ->capture_default_str();
   auto* mesh = cmd->add_option("--mesh", wc.mesh_preset, "water optics: composite mesh preset")
                    ->check(CLI::IsMember({"fast", "paper"}))
                    ->capture_default_str();
