@@ -77,6 +77,12 @@ RunDisplacementHistory displacement_history_from_run(const db::Reader& reader, s
   if (!(tolerance_mm > 0))
     throw tocd::ConfigError(
         fmt::format("displacement history tolerance must be > 0 (got {} mm)", tolerance_mm));
+  // Across a resume the pin was retracted and re-approached with no samples in the gap (and
+  // after a reboot the monotonic clock restarts): no history to hand the FE.
+  if (const auto segments = reader.anchors(run_id).size(); segments > 1)
+    throw tocd::Error(fmt::format(
+        "run {} was resumed ({} recording segments): the pin history across a resume is not modelled", run_id,
+        segments));
   const auto ch = reader.channel(run_id, "displacement");
   if (!ch)
     throw tocd::Error(

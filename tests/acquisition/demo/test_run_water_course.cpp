@@ -6,6 +6,7 @@
 
 #include "tocd/acquisition/run_water_course.hpp"
 #include "tocd/core/error.hpp"
+#include "tocd/db/database.hpp"
 #include "water_course_run.hpp"
 
 namespace {
@@ -44,6 +45,23 @@ TEST_F(RunWaterCourse, MeasuredTIsTheMeanOfTheStoredPowerInTheWindow) {
       acq::measured_T_between(reader, power->id, kBaseline, kT0 + 20 * kSecond, kT0 + 21 * kSecond);
   EXPECT_EQ(none.n, 0);
   EXPECT_TRUE(std::isnan(none.T));
+}
+
+TEST_F(RunWaterCourse, AResumedRunIsRefused) {
+  const auto run = write_run();
+  {
+    tocd::db::Database db(path_.string());
+    db.set_run_status(run, tocd::db::RunStatus::interrupted);
+    db.resume_run(run);
+  }
+  const tocd::db::Reader reader(path_.string());
+  try {
+    acq::displacement_history_from_run(reader, run, kT0 + 9 * kSecond);
+    FAIL();
+  } catch (const tocd::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("was resumed (2 recording segments)"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST_F(RunWaterCourse, ARunWithoutAPinHistoryOrWithThePinInTheSkinIsAClearError) {

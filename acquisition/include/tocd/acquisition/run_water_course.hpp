@@ -25,8 +25,8 @@ struct RunDisplacementHistory {
 };
 
 /// The run's displacement channel from its first sample to `until_ns` (inclusive). Throws
-/// tocd::Error for a run without a displacement channel or samples, or one that starts with the
-/// pin already in the skin (the FE starts from the undeformed state).
+/// tocd::Error for a run without a displacement channel or samples, one that starts with the
+/// pin already in the skin (the FE starts from the undeformed state), or a resumed run.
 RunDisplacementHistory displacement_history_from_run(const db::Reader& reader, std::int64_t run_id,
                                                      std::int64_t until_ns, double tolerance_mm = 1e-3);
 
