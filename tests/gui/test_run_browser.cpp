@@ -24,6 +24,8 @@ class RunBrowserTest : public QObject {
   void refuses_corrupt_and_foreign_files();
   void fits_the_law_of_a_run_on_its_own_worker();
   void a_fit_that_cannot_be_made_is_reported();
+  void computes_a_water_time_course_on_the_long_job_worker();
+  void a_water_course_that_cannot_be_made_is_reported();
 
  private:
   QTemporaryDir dir_;
@@ -233,6 +235,90 @@ void RunBrowserTest::a_fit_that_cannot_be_made_is_reported() {
   QCOMPARE(fitted.count(), 0);
   QVERIFY(failed.at(0).at(0).toString().contains(QString::number(run_id_)));
   QVERIFY(failed.at(0).at(1).toString().contains(QStringLiteral("no_such_fit.json")));
+  QVERIFY(!backend.fitting());
+}
+
+// A pin run as the engine records it: on the surface, then 0.25 mm; displacement at 100 Hz,
+// power at 10 Hz, a short recording window per step (one predicted point each). Real FE,
+// meshes and Monte Carlo with few photons.
+void RunBrowserTest::computes_a_water_time_course_on_the_long_job_worker() {
+  const QString path = dir_.filePath(QStringLiteral("water.tocdlab"));
+  constexpr double P0 = 1e-3;
+  std::int64_t run_id = 0, t0 = 0;
+  {
+    auto database = db::Database::open(path.toStdString());
+    db::SampleRecord sample;
+    sample.thickness_mm = 2.5;
+    db::NewRun nr;
+    nr.name = "water";
+    nr.baseline_power_W = P0;
+    nr.sample_id = database.add_sample(sample);
+    const db::RunRecord run = database.create_run(nr);
+    run_id = run.id;
+    t0 = run.monotonic_anchor_ns;
+    const auto disp = database.add_channel({0, run.id, "displacement", "mm", 0, 100.0});
+    const auto power = database.add_channel({0, run.id, "power", "W", 0, 10.0});
+    db::Writer writer(database);
+    for (int i = 0; i <= 600; ++i) {
+      const double t = 0.01 * i;
+      writer.enqueue(db::Sample{disp.id, t0 + i * 10'000'000LL, t < 2 ? 0.0 : std::min(0.25, 0.5 * (t - 2))});
+    }
+    for (int i = 0; i <= 60; ++i)
+      writer.enqueue(db::Sample{power.id, t0 + i * 100'000'000LL, P0 * (0.2 + 0.001 * i)});
+    writer.flush();
+    for (int k = 0; k < 2; ++k) {
+      db::StepRecord s;
+      s.run_id = run.id;
+      s.index = k;
+      s.target_displacement_mm = 0.25 * k;
+      s.recorded_from_t_ns = t0 + (k == 0 ? 500'000'000LL : 4'000'000'000LL);
+      s.recorded_to_t_ns = s.recorded_from_t_ns + 1'500'000'000LL;
+      database.add_step(s);
+    }
+  }
+  RunBrowserBackend backend;
+  QSignalSpy opened(&backend, &RunBrowserBackend::database_opened);
+  backend.open_database(path);
+  QVERIFY(opened.wait(10000));
+  QSignalSpy ready(&backend, &RunBrowserBackend::water_course_ready);
+  QSignalSpy progress(&backend, &RunBrowserBackend::water_progress);
+  QSignalSpy failed(&backend, &RunBrowserBackend::failed);
+  backend.water_course(run_id, 1000);
+  QVERIFY(backend.fitting());
+  QVERIFY(ready.wait(300000));
+  QCOMPARE(failed.count(), 0);
+  QVERIFY(!backend.fitting());
+  QVERIFY(progress.count() >= 2);
+  const auto v = ready.at(0).at(0).value<gui::WaterCourseView>();
+  QCOMPARE(v.run_id, run_id);
+  QCOMPARE(v.steps.size(), std::size_t{2});
+  for (const auto& s : v.steps) {
+    // The measured line is every stored power sample of the window (16 at 10 Hz in 1.5 s), as T.
+    QCOMPARE(s.measured.size(), std::size_t{16});
+    for (const QPointF& m : s.measured) {
+      QVERIFY(m.x() >= s.window_from_s - 1e-9 && m.x() <= s.window_to_s + 1e-9);
+      const int i = static_cast<int>(std::lround(m.x() * 10));
+      QVERIFY(std::abs(m.y() - (0.2 + 0.001 * i)) < 1e-12);
+    }
+    QCOMPARE(s.points.size(), std::size_t{1});
+    const auto& p = s.points[0];
+    QVERIFY2(p.computed, qPrintable(p.failure));
+    QVERIFY(p.t_s > s.window_from_s && p.t_s < s.window_to_s);
+    QVERIFY(std::isfinite(p.T) && p.T_stderr > 0);
+  }
+}
+
+// A run without a pin record: failed() names the run and what is missing; the worker is free.
+void RunBrowserTest::a_water_course_that_cannot_be_made_is_reported() {
+  RunBrowserBackend backend;
+  QSignalSpy opened(&backend, &RunBrowserBackend::database_opened);
+  backend.open_database(db_path_);
+  QVERIFY(opened.wait(10000));
+  QSignalSpy failed(&backend, &RunBrowserBackend::failed);
+  backend.water_course(run_id_, 1000);
+  QVERIFY(failed.wait(20000));
+  QVERIFY(failed.at(0).at(0).toString().contains(QString::number(run_id_)));
+  QVERIFY(failed.at(0).at(1).toString().contains(QStringLiteral("no power channel")));
   QVERIFY(!backend.fitting());
 }
 

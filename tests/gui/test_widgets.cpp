@@ -1,4 +1,5 @@
 #include <QChart>
+#include <QComboBox>
 #include <QLineSeries>
 #include <QMainWindow>
 #include <QPushButton>
@@ -12,6 +13,7 @@
 #include "comparison_chart.hpp"
 #include "event_log.hpp"
 #include "gui_settings.hpp"
+#include "hold_course_chart.hpp"
 #include "instrument_panel.hpp"
 #include "interlock_indicator.hpp"
 #include "live_chart.hpp"
@@ -27,6 +29,8 @@ class WidgetsTest : public QObject {
   void comparison_chart_fills_in();
   void comparison_chart_draws_a_fitted_law_with_two_bands();
   void browser_draws_a_fit_only_on_its_own_run();
+  void hold_chart_draws_measured_T_and_predicted_points();
+  void browser_shows_the_hold_of_the_chosen_step();
   void colour_map_shares_one_log_scale();
   void colour_map_orientation_and_no_data();
   void event_log_is_bounded();
@@ -156,6 +160,87 @@ void WidgetsTest::browser_draws_a_fit_only_on_its_own_run() {
   view.show_run(d);
   QVERIFY(view.comparison()->fitted_points().empty());
   QVERIFY(view.fit_text().isEmpty());
+}
+
+namespace {
+// Two holds: the first with two computed points, the second where the solver stopped.
+WaterCourseView water_course(std::int64_t run_id) {
+  WaterCourseView v;
+  v.run_id = run_id;
+  v.summary = QStringLiteral("water optics, 500 photons per point");
+  WaterStepView a;
+  a.step = 0;
+  a.displacement_mm = 0.25;
+  a.window_from_s = 10;
+  a.window_to_s = 15;
+  for (int i = 0; i <= 50; ++i) a.measured.emplace_back(10 + 0.1 * i, 0.20 + 0.001 * i);
+  a.points.push_back({10.5, 0.2, true, 0.18, 0.004, {}});
+  a.points.push_back({14.5, 0.24, true, 0.19, 0.005, {}});
+  WaterStepView b;
+  b.step = 1;
+  b.displacement_mm = 1.0;
+  b.window_from_s = 20;
+  b.window_to_s = 25;
+  b.measured = {{20, 0.5}, {25, 0.51}};
+  b.points.push_back(
+      {22.5, 0.5, false, std::nan(""), std::nan(""), QStringLiteral("no admissible Newton step")});
+  v.steps = {a, b};
+  return v;
+}
+}  // namespace
+
+void WidgetsTest::hold_chart_draws_measured_T_and_predicted_points() {
+  HoldCourseChart chart;
+  const auto v = water_course(1);
+  chart.show_step(v.steps[0]);
+  QCOMPARE(chart.measured_points().size(), std::size_t{51});
+  QCOMPARE(chart.measured_points()[50], QPointF(15.0, 0.25));
+  QCOMPARE(chart.predicted_points().size(), std::size_t{2});
+  QCOMPARE(chart.predicted_points()[1], QPointF(14.5, 0.19));
+  const auto bars = chart.error_bars();
+  QCOMPARE(bars.size(), std::size_t{2});
+  QCOMPARE(bars[0].x, 10.5);
+  QCOMPARE(bars[0].lo, 0.18 - 0.004);
+  QCOMPARE(bars[0].hi, 0.18 + 0.004);
+  QVERIFY(chart.title_text().contains(QStringLiteral("Step 1")));
+  // The stopped hold: its measured line, no invented point, the reason in the title.
+  chart.show_step(v.steps[1]);
+  QCOMPARE(chart.measured_points().size(), std::size_t{2});
+  QVERIFY(chart.predicted_points().empty());
+  QVERIFY(chart.error_bars().empty());
+  QVERIFY(chart.title_text().contains(QStringLiteral("not computed: no admissible Newton step")));
+  chart.clear();
+  QVERIFY(chart.measured_points().empty());
+}
+
+void WidgetsTest::browser_shows_the_hold_of_the_chosen_step() {
+  BrowserView view;
+  RunDetails d;
+  d.listing.id = 7;
+  view.show_run(d);
+  QVERIFY(view.water_button()->isEnabled());
+  QVERIFY(!view.hold_step()->isEnabled());
+  view.show_water_course(water_course(8));  // arrived after the user moved to run 7
+  QCOMPARE(view.hold_step()->count(), 0);
+  view.set_fitting(true);
+  QVERIFY2(!view.water_button()->isEnabled(), "one long job at a time");
+  view.set_fitting(false);
+  view.show_water_course(water_course(7));
+  QCOMPARE(view.hold_step()->count(), 2);
+  // The deepest computed hold is shown first.
+  QCOMPARE(view.hold_step()->currentData().toInt(), 0);
+  QCOMPARE(view.hold_chart()->predicted_points().size(), std::size_t{2});
+  view.hold_step()->setCurrentIndex(1);
+  QVERIFY(view.hold_chart()->predicted_points().empty());
+  QVERIFY(view.hold_chart()->title_text().contains(QStringLiteral("Step 2")));
+  QVERIFY(view.water_text().contains(QStringLiteral("500 photons")));
+  // Reloading the run keeps the course and the chosen step; another run drops it.
+  view.show_run(d);
+  QCOMPARE(view.hold_step()->currentData().toInt(), 1);
+  d.listing.id = 9;
+  view.show_run(d);
+  QCOMPARE(view.hold_step()->count(), 0);
+  QVERIFY(view.hold_chart()->measured_points().empty());
 }
 
 namespace {

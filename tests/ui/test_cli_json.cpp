@@ -166,6 +166,35 @@ TEST_F(CliJson, RunAndCompareNumberStepsFromOne) {
   EXPECT_EQ(cmp["steps"][0]["step"], 1);
 }
 
+// A recorded run's holds through the biphasic FE: one document, each step's points inside
+// its recording window, the measured T next to a predicted T or a reason, never both missing.
+TEST_F(CliJson, CompareWaterTimeCourse) {
+  json_of("run protocol.toml --simulated --no-predict --clock-factor 20 --db lab.db --json");
+  const auto j = json_of("compare --db lab.db --run 1 --optics water --photons 500 --json");
+  EXPECT_EQ(j["run"], 1);
+  EXPECT_EQ(j["optics"], "water");
+  EXPECT_EQ(j["config"]["thickness_mm"], 2.0) << "the protocol's sample";
+  ASSERT_EQ(j["steps"].size(), 2u);
+  EXPECT_EQ(j["steps"][0]["step"], 1);
+  for (const auto& s : j["steps"]) {
+    const double from = s["window_s"][0], to = s["window_s"][1];
+    ASSERT_GE(s["points"].size(), 1u);
+    for (const auto& p : s["points"]) {
+      EXPECT_GE(p["t_s"].get<double>(), from);
+      EXPECT_LE(p["t_s"].get<double>(), to);
+      EXPECT_TRUE(p["measured_T"].is_number());
+      EXPECT_TRUE(p["measured_T_se"].is_number()) << "standard errors are NAME_se";
+      if (p["computed"].get<bool>()) {
+        EXPECT_TRUE(p["predicted_T"].is_number());
+        EXPECT_TRUE(p["predicted_T_se"].is_number());
+      } else {
+        EXPECT_FALSE(p["failure"].get<std::string>().empty());
+        EXPECT_FALSE(p.contains("predicted_T"));
+      }
+    }
+  }
+}
+
 TEST_F(CliJson, DemoPrintsItsRunSummary) {
   const auto j = json_of(
       "demo --protocol protocol.toml --photons 500 --sample-photons 500 --clock-factor 20 --cache-dir cache "

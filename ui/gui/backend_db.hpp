@@ -11,6 +11,7 @@
 
 #include "step_table_model.hpp"
 #include "tocd/db/reader.hpp"
+#include "water_course_view.hpp"
 
 namespace tocd::gui {
 
@@ -89,6 +90,11 @@ class RunBrowserBackend : public QObject {
   /// lines come as fit_progress(). Ignored while a fit is running.
   void fit_law(std::int64_t run_id, const QString& material = QStringLiteral("fitted"));
   bool fitting() const;
+  /// Drives the biphasic FE along the run's recorded pin displacement and predicts T(t) at
+  /// points in every hold (acquisition::run_water_course), with each hold's measured T over
+  /// time. About a minute per run at 20 000 photons; on the fit's worker, so one long job at a
+  /// time (ignored while either runs); progress lines come as water_progress().
+  void water_course(std::int64_t run_id, std::uint64_t photons = 20000);
 
   QString path() const { return path_; }
   bool is_open() const { return static_cast<bool>(reader_); }
@@ -102,6 +108,8 @@ class RunBrowserBackend : public QObject {
   void exported(const QString& path);
   void fit_progress(const QString& line);
   void law_fitted(const tocd::gui::FittedLawView& view);
+  void water_progress(const QString& line);
+  void water_course_ready(const tocd::gui::WaterCourseView& view);
   void failed(const QString& action, const QString& message);
 
  private:

@@ -1,5 +1,6 @@
 #include "browser_view.hpp"
 
+#include <QComboBox>
 #include <QGridLayout>
 #include <QHBoxLayout>
 #include <QHeaderView>
@@ -12,6 +13,7 @@
 
 #include "comparison_chart.hpp"
 #include "event_log.hpp"
+#include "hold_course_chart.hpp"
 #include "live_chart.hpp"
 #include "step_table_model.hpp"
 
@@ -31,7 +33,18 @@ BrowserView::BrowserView(QWidget* parent)
           {tr("Optical power (stored)"), tr("time (s)"), tr("power (W)"), 1e-9, 0.0, 100000}, this)),
       events_(new EventLog(this)),
       fit_button_(new QPushButton(tr("Fit the sample's law (FE)"), this)),
-      fit_label_(new QLabel(this)) {
+      fit_label_(new QLabel(this)),
+      water_button_(new QPushButton(tr("Water time course (biphasic FE)"), this)),
+      hold_step_(new QComboBox(this)),
+      water_label_(new QLabel(this)),
+      hold_chart_(new HoldCourseChart(this)) {
+  water_button_->setToolTip(
+      tr("Drive the biphasic FE along the run's recorded pin displacement once and predict T(t) at points "
+         "in every hold with water-content optics, next to the measured power (tocdlab compare --optics "
+         "water); about a minute"));
+  water_button_->setEnabled(false);
+  hold_step_->setToolTip(tr("The step whose hold the time-course chart shows"));
+  hold_step_->setEnabled(false);
   fit_button_->setToolTip(
       tr("Identify the run's own law from its held step loads through the FE and re-predict "
          "every step with it: fitted T with its Monte Carlo error and the model band over the fit's "
@@ -55,6 +68,7 @@ BrowserView::BrowserView(QWidget* parent)
   grid->addWidget(comparison_, 0, 0);
   grid->addWidget(load_chart_, 0, 1);
   grid->addWidget(power_chart_, 0, 2);
+  grid->addWidget(hold_chart_, 0, 3);
 
   auto* split = new QSplitter(Qt::Vertical, this);
   split->addWidget(runs_);
@@ -67,6 +81,9 @@ BrowserView::BrowserView(QWidget* parent)
   auto* fit_row = new QHBoxLayout();
   fit_row->addWidget(fit_button_);
   fit_row->addWidget(fit_label_, 1);
+  fit_row->addWidget(water_button_);
+  fit_row->addWidget(hold_step_);
+  fit_row->addWidget(water_label_, 1);
 
   auto* col = new QVBoxLayout(this);
   col->addWidget(title_);
@@ -76,6 +93,20 @@ BrowserView::BrowserView(QWidget* parent)
   connect(fit_button_, &QPushButton::clicked, this, [this] {
     if (const auto id = selected_run(); id != 0) emit fit_requested(id);
   });
+
+  connect(water_button_, &QPushButton::clicked, this, [this] {
+    if (const auto id = selected_run(); id != 0) emit water_requested(id);
+  });
+  connect(hold_step_, &QComboBox::currentIndexChanged, this, [this](int i) {
+    if (i >= 0) show_hold(hold_step_->itemData(i).toInt());
+  });
+  // Picking a step in the table shows its hold too, when the course has it.
+  connect(table_->selectionModel(), &QItemSelectionModel::currentRowChanged, this,
+          [this](const QModelIndex& current) {
+            if (!water_ || !current.isValid()) return;
+            const int i = hold_step_->findData(steps_->index(current.row(), 0).data(Qt::UserRole).toInt());
+            if (i >= 0) hold_step_->setCurrentIndex(i);
+          });
 
   connect(runs_, &QTableWidget::itemSelectionChanged, this, [this] {
     if (const auto id = selected_run(); id != 0) emit run_selected(id);
@@ -132,6 +163,17 @@ void BrowserView::show_run(const RunDetails& d) {
     fit_label_->clear();
   }
   fit_button_->setEnabled(shown_run_ != 0 && !fitting_);
+  water_button_->setEnabled(shown_run_ != 0 && !fitting_);
+  if (water_ && water_->run_id == shown_run_) {
+    show_water_course(*water_);
+  } else {
+    water_.reset();
+    water_label_->clear();
+    const QSignalBlocker block(hold_step_);
+    hold_step_->clear();
+    hold_step_->setEnabled(false);
+    hold_chart_->clear();
+  }
   load_chart_->clear();
   double k = 0;
   for (const QPointF& p : d.load_vs_displacement) load_chart_->add(k++, p.x(), p.y());
@@ -167,6 +209,50 @@ void BrowserView::show_fit_progress(const QString& line) {
 void BrowserView::set_fitting(bool fitting) {
   fitting_ = fitting;
   fit_button_->setEnabled(!fitting && shown_run_ != 0);
+  water_button_->setEnabled(!fitting && shown_run_ != 0);
+}
+
+void BrowserView::show_water_course(const WaterCourseView& v) {
+  if (v.run_id != shown_run_) return;  // the user moved on to another run meanwhile
+  const int keep = hold_step_->currentIndex() >= 0 ? hold_step_->currentData().toInt() : -1;
+  water_ = v;
+  {
+    const QSignalBlocker block(hold_step_);
+    hold_step_->clear();
+    for (const WaterStepView& s : v.steps)
+      hold_step_->addItem(tr("step %1, %2 mm").arg(s.step + 1).arg(s.displacement_mm, 0, 'f', 3), s.step);
+    hold_step_->setEnabled(!v.steps.empty());
+  }
+  water_label_->setText(tr("Run %1: %2").arg(v.run_id).arg(v.summary));
+  // The deepest step that was computed shows the most clearing; else the first.
+  int pick = v.steps.empty() ? -1 : v.steps.front().step;
+  for (const WaterStepView& s : v.steps)
+    for (const WaterPointView& p : s.points)
+      if (p.computed) pick = s.step;
+  if (keep >= 0 && hold_step_->findData(keep) >= 0) pick = keep;
+  if (pick >= 0) {
+    const QSignalBlocker block(hold_step_);
+    hold_step_->setCurrentIndex(hold_step_->findData(pick));
+    show_hold(pick);
+  }
+}
+
+void BrowserView::show_water_progress(const QString& line) {
+  water_label_->setText(line);
+}
+
+bool BrowserView::show_hold(int index) {
+  if (!water_) return false;
+  for (const WaterStepView& s : water_->steps)
+    if (s.step == index) {
+      hold_chart_->show_step(s);
+      return true;
+    }
+  return false;
+}
+
+QString BrowserView::water_text() const {
+  return water_label_->text();
 }
 
 QString BrowserView::fit_text() const {

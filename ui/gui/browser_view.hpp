@@ -5,6 +5,7 @@
 
 #include "backend_db.hpp"
 
+class QComboBox;
 class QLabel;
 class QPushButton;
 class QTableView;
@@ -14,13 +15,15 @@ namespace tocd::gui {
 
 class ComparisonChart;
 class EventLog;
+class HoldCourseChart;
 class LiveChart;
 class StepTableModel;
 
 /// The run browser: the runs of an opened database and, for the selected one, its step
 /// table, measured-vs-simulated chart, stored time series and events (all read-only). On
 /// request, the selected run's steps predicted with the sample's own law, with its Monte Carlo
-/// error and model band, join the chart.
+/// error and model band, join the chart; or the water time course: for the step chosen, the
+/// T measured over its hold with the predicted T(t) points on top.
 class BrowserView : public QWidget {
   Q_OBJECT
 
@@ -33,8 +36,13 @@ class BrowserView : public QWidget {
   /// Draws the fitted law's predictions when they belong to the run on show.
   void show_fitted(const FittedLawView& view);
   void show_fit_progress(const QString& line);
-  /// While a fit runs its button is off.
+  /// While a fit or a water time course runs, both buttons are off (one long job at a time).
   void set_fitting(bool fitting);
+  /// Keeps the course when it belongs to the run on show and draws the chosen step's hold.
+  void show_water_course(const WaterCourseView& view);
+  void show_water_progress(const QString& line);
+  /// Draws step `index` (0-based) of the water course on show; false when it has none.
+  bool show_hold(int index);
 
   /// The run selected in the list, or 0.
   std::int64_t selected_run() const;
@@ -46,10 +54,15 @@ class BrowserView : public QWidget {
   QString title_text() const;
   QString fit_text() const;
   QPushButton* fit_button() const noexcept { return fit_button_; }
+  QPushButton* water_button() const noexcept { return water_button_; }
+  HoldCourseChart* hold_chart() const noexcept { return hold_chart_; }
+  QComboBox* hold_step() const noexcept { return hold_step_; }
+  QString water_text() const;
 
  signals:
   void run_selected(qint64 run_id);
   void fit_requested(qint64 run_id);
+  void water_requested(qint64 run_id);
 
  private:
   QLabel* title_;
@@ -62,10 +75,15 @@ class BrowserView : public QWidget {
   EventLog* events_;
   QPushButton* fit_button_;
   QLabel* fit_label_;
+  QPushButton* water_button_;
+  QComboBox* hold_step_;
+  QLabel* water_label_;
+  HoldCourseChart* hold_chart_;
   QVector<RunListing> listed_;
   std::int64_t shown_run_ = 0;
   bool fitting_ = false;
-  std::optional<FittedLawView> fitted_;  ///< kept so that reloading the run keeps its fit
+  std::optional<FittedLawView> fitted_;   ///< kept so that reloading the run keeps its fit
+  std::optional<WaterCourseView> water_;  ///< likewise for the water time course
 };
 
 }  // namespace tocd::gui

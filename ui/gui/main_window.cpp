@@ -163,6 +163,16 @@ void MainWindow::connect_backends() {
     browser_->fit_law(id);
   });
   connect(browser_, &RunBrowserBackend::fit_progress, browser_view_, &BrowserView::show_fit_progress);
+  connect(browser_view_, &BrowserView::water_requested, this, [this](qint64 id) {
+    browser_view_->set_fitting(true);
+    browser_->water_course(id);
+  });
+  connect(browser_, &RunBrowserBackend::water_progress, browser_view_, &BrowserView::show_water_progress);
+  connect(browser_, &RunBrowserBackend::water_course_ready, this, [this](const WaterCourseView& v) {
+    browser_view_->set_fitting(false);
+    browser_view_->show_water_course(v);
+    statusBar()->showMessage(tr("Run %1: water time course computed").arg(v.run_id));
+  });
   connect(browser_, &RunBrowserBackend::law_fitted, this, [this](const FittedLawView& v) {
     browser_view_->set_fitting(false);
     browser_view_->show_fitted(v);
