@@ -3,22 +3,18 @@
 // A small hand-made pin-compression run for the water time course tests: displacement at
 // 100 Hz, power at 10 Hz, three steps (0, 0.25, 0.5 mm) with their recording windows.
 #include <cmath>
-#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include <fmt/format.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
+#include "tester_run.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/db/writer.hpp"
 
 namespace water_course_test {
-
-namespace fs = std::filesystem;
 
 constexpr double kBaseline = 2e-3;  // W
 constexpr double kThickness = 2.5;  // mm
@@ -45,16 +41,8 @@ struct Windows {
 };
 inline const std::vector<Windows> kWindows = {{0.5, 1.5, 0.0}, {3.0, 5.0, 0.25}, {7.0, 9.0, 0.5}};
 
-class RunWaterCourse : public ::testing::Test {
+class RunWaterCourse : public tocd::acquisition::testing::TempDatabaseTest {
  protected:
-  void SetUp() override {
-    path_ = fs::temp_directory_path() / fmt::format("tocd_water_course_{}.db", ::getpid());
-    fs::remove(path_);
-  }
-  void TearDown() override {
-    for (const char* ext : {"", "-wal", "-shm", "-runlock"}) fs::remove(path_.string() + ext);
-  }
-
   // A run as the engine records it: displacement at 100 Hz, power at 10 Hz, three steps.
   std::int64_t write_run(bool pin_starts_in_skin = false, bool with_displacement = true) {
     tocd::db::Database db(path_.string());
@@ -113,7 +101,6 @@ class RunWaterCourse : public ::testing::Test {
     return n ? sum / n / kBaseline : std::nan("");
   }
 
-  fs::path path_;
   std::vector<std::pair<double, double>> recorded_, power_;
 };
 
