@@ -98,6 +98,17 @@ TEST(LabConfig, RoundTripKeepsQuotesAndControlCharactersInStrings) {
   EXPECT_FALSE(b.vacuum);
 }
 
+// Found by the lab_toml fuzz target in CI: a name that starts with a newline was written as a
+// multi-line literal string, and reading it back drops the newline after the opening '''.
+TEST(LabConfig, RoundTripKeepsALeadingNewline) {
+  LabConfig a = parse_lab_config("[tester]\nhost = \"h\"\n", "lab.toml");
+  a.name = "\nrig";
+  a.tester->address.host = "\n::1";
+  const LabConfig b = parse_lab_config(to_toml(a), "round trip");
+  EXPECT_EQ(b.name, "\nrig");
+  EXPECT_EQ(b.tester->address.host, "\n::1");
+}
+
 TEST(LabConfig, ErrorsNameLineAndKey) {
   std::string e = error_of("[tester]\nhost = \"h\"\nport = 99999\n");
   EXPECT_NE(e.find("lab.toml:3"), std::string::npos) << e;
