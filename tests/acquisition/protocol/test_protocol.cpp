@@ -100,6 +100,22 @@ TEST(AcquisitionProtocol, RangeOfSteps) {
   EXPECT_DOUBLE_EQ(p.steps[1].displacement_mm, 0.5);
 }
 
+// Found by the protocol_toml fuzz target: an integer beyond 2^53 (no exact double) ended the
+// program instead of being checked like any other number.
+TEST(AcquisitionProtocol, IntegersBeyondADoublesPrecisionAreCheckedByValue) {
+  auto msg =
+      error_of(replace(kGood, "[0.25, 0.5, 1.0]", "{ from = 0.25, to = 1.5, count = 11111111111111111 }"));
+  EXPECT_NE(msg.find("count"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("1..10000"), std::string::npos) << msg;
+  msg = error_of(replace(kGood, "hold_s = 2", "hold_s = 11111111111111111"));
+  EXPECT_NE(msg.find("hold_s"), std::string::npos) << msg;
+  // 2^53 + 1 in an array is read as 2^53 and refused by the thickness, naming the step.
+  msg = error_of(replace(kGood, "[0.25, 0.5, 1.0]", "[0.25, 9007199254740993]"));
+  EXPECT_NE(msg.find("step 2: displacement 9007199254740992 mm must lie in [0, thickness 2 mm)"),
+            std::string::npos)
+      << msg;
+}
+
 TEST(AcquisitionProtocol, VacuumSteps) {
   const auto p = parse_protocol(
       replace(kGood, "displacements_mm = [0.25, 0.5, 1.0]", "vacuum_kPa = [80, 60]"), "p.toml");
