@@ -23,6 +23,12 @@ void PoroModel::validate() const {
   if (skeleton.D.empty() || !(skeleton.D[0] > 0))
     throw PoroError("skeleton material needs a bulk modulus (D_1 > 0): the drained skeleton is compressible");
   permeability.validate();
+  if (!(pore_closure.onset >= 0 && pore_closure.onset < 1))
+    throw PoroError(fmt::format("pore_closure onset must lie in [0, 1) (got {})", pore_closure.onset));
+  if (pore_closure.onset > 0 &&
+      !(pore_closure.modulus_factor > 0 && std::isfinite(pore_closure.modulus_factor)))
+    throw PoroError(fmt::format("pore_closure modulus_factor must be positive and finite (got {})",
+                                pore_closure.modulus_factor));
   if (plate.enabled) {
     if (!plate.force_N && !plate.displacement_mm)
       throw PoroError("top plate enabled without a force or a displacement history");

@@ -13,6 +13,7 @@
 #include "element.hpp"
 #include "grid.hpp"
 #include "pin_contact.hpp"
+#include "pore_closure.hpp"
 #include "tocd/sim/material/hyperelastic.hpp"
 
 namespace tocd::sim::poro {
@@ -41,7 +42,7 @@ struct PoroSolver::Impl {
     model.validate();
     grid = make_grid(model.mesh);
     dofs = make_dof_map(grid, model);
-    skeleton = mat::make_ogden(model.skeleton);
+    skeleton = make_skeleton_law(model);
     for (int e = 0; e < grid.element_count(); ++e)
       gauss.push_back(make_element_gauss(grid.element_box(e), model.kinematics));
     values = Eigen::VectorXd::Zero(dofs.pressure_offset + grid.pressure_count());
@@ -63,6 +64,17 @@ struct PoroSolver::Impl {
 
   double pin_centre(double t) const {
     return model.mesh.height_mm - model.pin.displacement_mm(t) + model.pin.radius_mm;
+  }
+
+  // The top node on the axis of an axisymmetric model stays in contact while its neighbour
+  // is: its consistent nodal force vanishes (ring weight 2 pi r = 0), so its contact status
+  // is undecided by force. Held, it pulls on the pin by a few um of penalty; free, it
+  // penetrates, and once the active-set rule had released it for good (released twice) its
+  // vertical motion was held by nothing but the axis element: under a 1.5 mm pin, with that
+  // element compacted toward its solid volume, Newton steps moved it by up to 3 mm and the
+  // iteration did not converge (docs/water.md, "State").
+  bool holds_axis_node(std::size_t neighbour) const {
+    return model.kinematics == Kinematics::axisymmetric && neighbour < active.size() && active[neighbour];
   }
 
   // Contact force of top node i at state x: N = lambda - eps g along the pin normal (the
@@ -301,7 +313,7 @@ struct PoroSolver::Impl {
       // Active set of the first iteration: the nodes the pin reaches at the start of the step.
       if (model.pin.enabled)
         for (std::size_t i = 0; i < active.size(); ++i) {
-          active[i] = node_contact(x, int(i), centre).force > 0;
+          active[i] = node_contact(x, int(i), centre).force > 0 || (i == 0 && holds_axis_node(i + 1));
           if (!active[i]) multipliers[i] = 0;
         }
       for (int aug = 0;; ++aug) {
@@ -324,7 +336,7 @@ struct PoroSolver::Impl {
           bool changed = false;
           for (std::size_t i = 0; i < active.size(); ++i) {
             const double band = penalties[i] * gap_tolerance, f = node_contact(x, int(i), centre).force;
-            if (active[i] && f < -band) {
+            if (active[i] && f < -band && !(i == 0 && holds_axis_node(1))) {
               active[i] = 0;  // released: it carries nothing, its multiplier with it
               multipliers[i] = 0;
               ++releases[i];

@@ -1,5 +1,7 @@
 // The biphasic element's analytic tangent against central finite differences of its residual,
 // and the refusal of bad input.
+#include <algorithm>
+#include <cmath>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -25,15 +27,22 @@ PoroModel small_model(Kinematics k) {
 
 // Central differences have truncation error O(h^2 |R'''|) and round-off O(eps |R| / h); with
 // h = 1e-6 of the dof scale both are below 1e-6 of the tangent's largest entry.
-void expect_tangent_matches_differences(Kinematics k) {
+// `stretch` < 1 first scales the element's nodes toward the origin (u = (stretch - 1) X), so
+// that the volume ratio lies where the pore-closure term acts.
+void expect_tangent_matches_differences(Kinematics k, double stretch = 1.0) {
   PoroSolver solver(small_model(k));
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> U(-1, 1);
+  const double node_dx = 0.5, node_dy = 0.25;          // node spacing of small_model (2 x 1 mm, 2 x 2)
+  const double amplitude = stretch < 1 ? 0.01 : 0.08;  // 8 %: finite strain; 1 %: stays compacted
   for (int e : {0, 3}) {
+    const double x0 = (e % 2) * 2 * node_dx, y0 = (e / 2) * 2 * node_dy;
     Eigen::VectorXd x(22), prev(22);
     for (int i = 0; i < 18; ++i) {
-      x[i] = 0.08 * U(rng);  // up to 8 % of the element size: finite strain
-      prev[i] = 0.02 * U(rng);
+      const int a = i / 2, li = a % 3, lj = a / 3;  // node a = 3 lj + li (grid.hpp)
+      const double X = i % 2 == 0 ? x0 + li * node_dx : y0 + lj * node_dy;
+      x[i] = (stretch - 1) * X + amplitude * U(rng);
+      prev[i] = (stretch - 1) * X + 0.25 * amplitude * U(rng);
     }
     for (int i = 18; i < 22; ++i) {
       x[i] = 0.01 * U(rng);  // pressures of the order of the shear modulus
@@ -63,6 +72,53 @@ TEST(PoroElement, TangentMatchesFiniteDifferencesPlaneStrain) {
 
 TEST(PoroElement, TangentMatchesFiniteDifferencesAxisymmetric) {
   expect_tangent_matches_differences(Kinematics::axisymmetric);
+}
+
+// Compacted to a volume ratio J of about 0.31 (plane strain: 0.56^2; axisymmetric: 0.68^3), a
+// relative pore volume s = (J - 0.2) / 0.8 of about 0.14, below the pore-closure onset 0.2.
+TEST(PoroElement, TangentMatchesFiniteDifferencesWithThePoresClosingPlaneStrain) {
+  expect_tangent_matches_differences(Kinematics::plane_strain, 0.56);
+}
+
+TEST(PoroElement, TangentMatchesFiniteDifferencesWithThePoresClosingAxisymmetric) {
+  expect_tangent_matches_differences(Kinematics::axisymmetric, 0.68);
+}
+
+TEST(PoroElement, PoreClosureTermActsOnlyBelowItsOnsetAndDivergesAsThePoresClose) {
+  const PoreClosure c{0.2, 3.0};
+  const double phi0 = 0.25, K = 2.0;  // s = (J - 0.25) / 0.75
+  for (double J : {0.40, 0.5, 0.9, 1.0, 1.3}) {
+    const auto v = c.at(J, phi0, K);
+    EXPECT_EQ(v.U, 0.0) << J;
+    EXPECT_EQ(v.dU, 0.0) << J;
+    EXPECT_EQ(v.d2U, 0.0) << J;
+  }
+  // Onset at s = 0.2 (J = 0.4): U, U' and U'' all tend to zero there (C2 join).
+  const auto near = c.at(0.4 - 1e-7, phi0, K);
+  EXPECT_LT(near.U, 1e-18);
+  EXPECT_LT(std::abs(near.dU), 1e-10);
+  EXPECT_LT(std::abs(near.d2U), 1e-4);
+  // s = 0.1 (J = 0.325): U = 3 K (-(0.1 - 0.2)^2 ln(0.5)) written out.
+  EXPECT_NEAR(c.at(0.325, phi0, K).U, 3 * 2.0 * 0.01 * std::log(2.0), 1e-15);
+  // Derivatives against central differences (h = 1e-6: truncation O(h^2 U''') far below).
+  for (double J : {0.26, 0.3, 0.38}) {
+    const double h = 1e-6;
+    const auto v = c.at(J, phi0, K), p = c.at(J + h, phi0, K), m = c.at(J - h, phi0, K);
+    EXPECT_NEAR(v.dU, (p.U - m.U) / (2 * h), 1e-6 * std::max(1.0, std::abs(v.dU))) << J;
+    EXPECT_NEAR(v.d2U, (p.dU - m.dU) / (2 * h), 1e-6 * std::max(1.0, std::abs(v.d2U))) << J;
+  }
+  // As the pores close the compressive pressure -U' grows without bound; closed: no energy.
+  double pressure = 0;
+  for (double s : {0.15, 0.1, 0.01, 1e-4, 1e-8}) {
+    const double p = -c.at(phi0 + s * (1 - phi0), phi0, K).dU;
+    EXPECT_GT(p, pressure) << s;
+    pressure = p;
+  }
+  EXPECT_GT(pressure, 1e6 * K);
+  EXPECT_TRUE(std::isinf(c.at(phi0, phi0, K).U));
+  EXPECT_TRUE(std::isinf(c.at(0.1, phi0, K).U));
+  // Off (onset 0): nothing anywhere.
+  EXPECT_EQ((PoreClosure{0.0, 3.0}.at(0.3, phi0, K).dU), 0.0);
 }
 
 TEST(PoroElement, HolmesMowPermeabilityForm) {
@@ -103,6 +159,12 @@ TEST(PoroElement, RefusesBadInputNamingTheField) {
   m = small_model(Kinematics::plane_strain);
   m.plate.enabled = true;
   expect_error(m, "plate");
+  m = small_model(Kinematics::plane_strain);
+  m.pore_closure.onset = 1.0;
+  expect_error(m, "pore_closure onset");
+  m = small_model(Kinematics::plane_strain);
+  m.pore_closure.modulus_factor = 0;
+  expect_error(m, "pore_closure modulus_factor");
 
   PoroSolver s(small_model(Kinematics::plane_strain));
   s.advance_to(1.0);

@@ -4,7 +4,9 @@
 // the axis node flipping between iterations). It converges now; the physics of the hold is
 // checked where it could go wrong: water keeps leaving, the pin force relaxes monotonically and
 // stays above the drained single-phase FE force it relaxes toward, the water volume balances.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include <gtest/gtest.h>
 
@@ -64,6 +66,112 @@ TEST(PoroPinRamp, CompressibleSkeletonThroughTheRampAndAHold) {
   // Over 60 s of a consolidation time h^2 / (k mu) ~ 2900 s the force has relaxed measurably.
   EXPECT_LT(s.pin_force_N, 0.9 * peak);
   EXPECT_LT(worst_balance, 1e-6);
+}
+
+poro::PoroModel published_pin_model(const fe::FeModel& drained_model, double d, double ramp) {
+  poro::PoroModel m;
+  m.kinematics = poro::Kinematics::axisymmetric;
+  m.mesh = {drained_model.outer_radius_mm, drained_model.thickness_mm, 24, 8, 0.4};
+  m.skeleton = drained_model.material;
+  m.permeability = {1.0, 0.25, 0.0, 0.0};
+  m.left.fix_x = true;
+  m.bottom.fix_x = m.bottom.fix_y = true;
+  m.top.drained = m.right.drained = true;
+  m.pin.enabled = true;
+  m.pin.radius_mm = drained_model.pin_radius_mm;
+  m.pin.displacement_mm = [=](double t) { return d * std::min(t / ramp, 1.0); };
+  return m;
+}
+
+// Smallest volume ratio on a grid of reference points in the top 0.5 mm out to 3 mm.
+double smallest_volume_ratio_near_the_pin(const poro::PoroSolver& solver, double thickness_mm) {
+  double min_J = 1e9;
+  for (double x = 0.005; x < 3.0; x += 0.05)
+    for (double y = thickness_mm - 0.5; y < thickness_mm; y += 0.02) {
+      const double J = solver.volume_ratio_at(x, y);
+      if (std::isfinite(J)) min_J = std::min(min_J, J);
+    }
+  return min_J;
+}
+
+// The pin to 1.0 mm in 10 s, then a 60 s hold. It failed 0.04 s into the hold ("no admissible
+// Newton step", docs/water.md): the top node on the axis had been released from the contact
+// for good, nothing but the axis element held it, and that element compacted to the solid
+// volume (J = phi0). The node is now held while its neighbour is in contact, the pore-closure
+// term stands behind it, and the physics of a consolidating hold holds: the pin force relaxes
+// and stays above the drained single-phase FE force, water leaves, the balance closes, and no
+// sampled point has its pores closed.
+TEST(PoroPinRamp, OneMillimetreHoldAfterAFastRampKeepsThePoresOpen) {
+  const double d = 1.0, nu = 0.3, ramp = 10, hold = 60;
+  fe::FeModel drained_model = fe::FeModel::published_default();
+  const double mu = drained_model.material.initial_shear_modulus();
+  drained_model.material.D = {3 * (1 - 2 * nu) / (mu * (1 + nu))};  // D_1 = 2 / K
+  const fe::FeResult drained = fe::solve(drained_model, {d});
+  ASSERT_TRUE(drained.complete) << drained.stop_reason;
+  const double drained_force = drained.steps.back().force_N;
+
+  poro::PoroSolver solver(published_pin_model(drained_model, d, ramp));
+
+  double worst_balance = 0;
+  for (int n = 1; n <= 10; ++n) {
+    const auto& s = solver.advance_to(ramp * n / 10);
+    worst_balance = std::max(worst_balance, std::abs(s.water_outflow_mm3 + s.water_content_change_mm3));
+  }
+  const double peak = solver.state().pin_force_N;
+  double force = peak, outflow = solver.state().water_outflow_mm3;
+  for (double into_hold : {1.0, 2.0, 4.0, 7.0, 11.0, 20.0, 35.0, hold}) {
+    const double t = ramp + into_hold;
+    const auto& s = solver.advance_to(t);
+    worst_balance = std::max(worst_balance, std::abs(s.water_outflow_mm3 + s.water_content_change_mm3));
+    EXPECT_LE(s.pin_force_N, force) << "t = " << t;
+    EXPECT_GT(s.pin_force_N, drained_force) << "t = " << t;
+    force = s.pin_force_N;
+    if (t >= 30) {  // the ramp's inflow has reversed by then (docs/water.md, "State")
+      EXPECT_GT(s.water_outflow_mm3, outflow) << "t = " << t;
+      outflow = s.water_outflow_mm3;
+    }
+  }
+  const double min_J = smallest_volume_ratio_near_the_pin(solver, drained_model.thickness_mm);
+  std::printf(
+      "pin %.2f mm, nu %.2f, ramp %.0f s: force %.5g -> %.5g N (drained FE %.5g N), water out %.4g mm^3, "
+      "smallest sampled J %.4f (phi0 0.25), balance %.2g mm^3, %d halvings in the last step\n",
+      d, nu, ramp, peak, solver.state().pin_force_N, drained_force, solver.state().water_outflow_mm3, min_J,
+      worst_balance, solver.state().step_halvings);
+  EXPECT_GT(min_J, 0.25);
+  EXPECT_LT(solver.state().pin_force_N, 0.95 * peak);
+  EXPECT_LT(worst_balance, 1e-6);
+}
+
+// 1.25 mm, nu = 0.3, held for about one consolidation time (2900 s, docs/water.md) in the
+// three time steps of `predict --times 0,342,1000,3000`: the biphasic pin force tends to the
+// drained single-phase FE force. Without the pore-closure term the Gauss point next to the
+// axis compacts to the solid volume 372 s into the hold and no time step is admissible; with
+// it the hold reaches its end. The term acts only in a small region next to the axis (smallest
+// sampled J 0.37, s = 0.16) and the FE has none, so the 1 % bound of the 0.625 mm drained-limit
+// test covers it along with the decay still under way at 3000 s and the two discretisations.
+TEST(PoroPinRamp, LongHoldAtOnePointTwoFiveMillimetresTendsToTheDrainedForce) {
+  const double d = 1.25, nu = 0.3, ramp = 30;
+  fe::FeModel drained_model = fe::FeModel::published_default();
+  const double mu = drained_model.material.initial_shear_modulus();
+  drained_model.material.D = {3 * (1 - 2 * nu) / (mu * (1 + nu))};
+  const fe::FeResult drained = fe::solve(drained_model, {d});
+  ASSERT_TRUE(drained.complete) << drained.stop_reason;
+  const double drained_force = drained.steps.back().force_N;
+
+  poro::PoroSolver solver(published_pin_model(drained_model, d, ramp));
+  for (int n = 1; n <= 10; ++n) solver.advance_to(ramp * n / 10);
+  double force = solver.state().pin_force_N;
+  for (double into_hold : {342.0, 1000.0, 3000.0}) {  // as `predict --times 0,342,1000,3000`
+    const auto& s = solver.advance_to(ramp + into_hold);
+    EXPECT_LE(s.pin_force_N, force) << into_hold;
+    force = s.pin_force_N;
+  }
+  const double min_J = smallest_volume_ratio_near_the_pin(solver, drained_model.thickness_mm);
+  std::printf(
+      "pin 1.25 mm, nu 0.3, 3000 s hold: force %.6f N, drained FE %.6f N (%+.2f %%), smallest J %.4f\n",
+      force, drained_force, 100 * (force / drained_force - 1), min_J);
+  EXPECT_NEAR(force, drained_force, 0.01 * drained_force);
+  EXPECT_GT(min_J, 0.25);
 }
 
 }  // namespace
