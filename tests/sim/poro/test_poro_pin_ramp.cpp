@@ -17,15 +17,17 @@ namespace {
 
 using namespace tocd::sim;
 
-TEST(PoroPinRamp, CompressibleSkeletonThroughTheRampAndAHold) {
-  const double d = 1.25, nu = 0.3, ramp = 30, hold = 60;
-  fe::FeModel drained_model = fe::FeModel::published_default();
-  const double mu = drained_model.material.initial_shear_modulus();
-  drained_model.material.D = {3 * (1 - 2 * nu) / (mu * (1 + nu))};  // D_1 = 2 / K
-  const fe::FeResult drained = fe::solve(drained_model, {d});
-  ASSERT_TRUE(drained.complete) << drained.stop_reason;
-  const double drained_force = drained.steps.back().force_N;
+// The published FE model with a compressible skeleton: drained Poisson's ratio nu, D_1 = 2 / K.
+fe::FeModel drained_fe_model(double nu) {
+  fe::FeModel m = fe::FeModel::published_default();
+  const double mu = m.material.initial_shear_modulus();
+  m.material.D = {3 * (1 - 2 * nu) / (mu * (1 + nu))};
+  return m;
+}
 
+// The published skin as a biphasic pin problem (24 x 8 graded mesh, k0 = 1, phi0 = 0.25, top and
+// far side drained): the pin to d in `ramp` s, then held.
+poro::PoroModel published_pin_model(const fe::FeModel& drained_model, double d, double ramp) {
   poro::PoroModel m;
   m.kinematics = poro::Kinematics::axisymmetric;
   m.mesh = {drained_model.outer_radius_mm, drained_model.thickness_mm, 24, 8, 0.4};
@@ -37,7 +39,28 @@ TEST(PoroPinRamp, CompressibleSkeletonThroughTheRampAndAHold) {
   m.pin.enabled = true;
   m.pin.radius_mm = drained_model.pin_radius_mm;
   m.pin.displacement_mm = [=](double t) { return d * std::min(t / ramp, 1.0); };
-  poro::PoroSolver solver(m);
+  return m;
+}
+
+// Smallest volume ratio on a grid of reference points in the top 0.5 mm out to 3 mm.
+double smallest_volume_ratio_near_the_pin(const poro::PoroSolver& solver, double thickness_mm) {
+  double min_J = 1e9;
+  for (double x = 0.005; x < 3.0; x += 0.05)
+    for (double y = thickness_mm - 0.5; y < thickness_mm; y += 0.02) {
+      const double J = solver.volume_ratio_at(x, y);
+      if (std::isfinite(J)) min_J = std::min(min_J, J);
+    }
+  return min_J;
+}
+
+TEST(PoroPinRamp, CompressibleSkeletonThroughTheRampAndAHold) {
+  const double d = 1.25, nu = 0.3, ramp = 30, hold = 60;
+  const fe::FeModel drained_model = drained_fe_model(nu);
+  const fe::FeResult drained = fe::solve(drained_model, {d});
+  ASSERT_TRUE(drained.complete) << drained.stop_reason;
+  const double drained_force = drained.steps.back().force_N;
+
+  poro::PoroSolver solver(published_pin_model(drained_model, d, ramp));
 
   auto balance = [](const poro::PoroState& s) {
     return std::abs(s.water_outflow_mm3 + s.water_content_change_mm3);
@@ -68,32 +91,6 @@ TEST(PoroPinRamp, CompressibleSkeletonThroughTheRampAndAHold) {
   EXPECT_LT(worst_balance, 1e-6);
 }
 
-poro::PoroModel published_pin_model(const fe::FeModel& drained_model, double d, double ramp) {
-  poro::PoroModel m;
-  m.kinematics = poro::Kinematics::axisymmetric;
-  m.mesh = {drained_model.outer_radius_mm, drained_model.thickness_mm, 24, 8, 0.4};
-  m.skeleton = drained_model.material;
-  m.permeability = {1.0, 0.25, 0.0, 0.0};
-  m.left.fix_x = true;
-  m.bottom.fix_x = m.bottom.fix_y = true;
-  m.top.drained = m.right.drained = true;
-  m.pin.enabled = true;
-  m.pin.radius_mm = drained_model.pin_radius_mm;
-  m.pin.displacement_mm = [=](double t) { return d * std::min(t / ramp, 1.0); };
-  return m;
-}
-
-// Smallest volume ratio on a grid of reference points in the top 0.5 mm out to 3 mm.
-double smallest_volume_ratio_near_the_pin(const poro::PoroSolver& solver, double thickness_mm) {
-  double min_J = 1e9;
-  for (double x = 0.005; x < 3.0; x += 0.05)
-    for (double y = thickness_mm - 0.5; y < thickness_mm; y += 0.02) {
-      const double J = solver.volume_ratio_at(x, y);
-      if (std::isfinite(J)) min_J = std::min(min_J, J);
-    }
-  return min_J;
-}
-
 // The pin to 1.0 mm in 10 s, then a 60 s hold. It failed 0.04 s into the hold ("no admissible
 // Newton step", docs/water.md): the top node on the axis had been released from the contact
 // for good, nothing but the axis element held it, and that element compacted to the solid
@@ -103,9 +100,7 @@ double smallest_volume_ratio_near_the_pin(const poro::PoroSolver& solver, double
 // sampled point has its pores closed.
 TEST(PoroPinRamp, OneMillimetreHoldAfterAFastRampKeepsThePoresOpen) {
   const double d = 1.0, nu = 0.3, ramp = 10, hold = 60;
-  fe::FeModel drained_model = fe::FeModel::published_default();
-  const double mu = drained_model.material.initial_shear_modulus();
-  drained_model.material.D = {3 * (1 - 2 * nu) / (mu * (1 + nu))};  // D_1 = 2 / K
+  const fe::FeModel drained_model = drained_fe_model(nu);
   const fe::FeResult drained = fe::solve(drained_model, {d});
   ASSERT_TRUE(drained.complete) << drained.stop_reason;
   const double drained_force = drained.steps.back().force_N;
@@ -151,9 +146,7 @@ TEST(PoroPinRamp, OneMillimetreHoldAfterAFastRampKeepsThePoresOpen) {
 // test covers it along with the decay still under way at 3000 s and the two discretisations.
 TEST(PoroPinRamp, LongHoldAtOnePointTwoFiveMillimetresTendsToTheDrainedForce) {
   const double d = 1.25, nu = 0.3, ramp = 30;
-  fe::FeModel drained_model = fe::FeModel::published_default();
-  const double mu = drained_model.material.initial_shear_modulus();
-  drained_model.material.D = {3 * (1 - 2 * nu) / (mu * (1 + nu))};
+  const fe::FeModel drained_model = drained_fe_model(nu);
   const fe::FeResult drained = fe::solve(drained_model, {d});
   ASSERT_TRUE(drained.complete) << drained.stop_reason;
   const double drained_force = drained.steps.back().force_N;
