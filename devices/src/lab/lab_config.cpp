@@ -210,9 +210,9 @@ namespace {
 
 /// A TOML basic string of `text`, quotes and control characters escaped by toml++ itself, so
 /// that a name holding `"` or an ESC reads back as written and cannot add keys of its own.
-// Always a basic string with escapes. With its default flags toml++ writes a text that
-// starts with a newline as a multi-line literal string, and TOML drops a newline right after
-// the opening delimiter when the config is read back: the name would lose it.
+/// No format flags: with its defaults toml++ writes a text that starts with a newline as a
+/// multi-line literal string, and TOML drops the newline right after the opening delimiter
+/// when the config is read back.
 std::string toml_string(const std::string& text) {
   std::ostringstream out;
   out << toml::toml_formatter{toml::value<std::string>(text), toml::format_flags::none};

@@ -73,8 +73,8 @@ struct PoroSolver::Impl {
   // vertical motion was held by nothing but the axis element: under a 1.5 mm pin, with that
   // element compacted toward its solid volume, Newton steps moved it by up to 3 mm and the
   // iteration did not converge (docs/water.md, "State").
-  bool holds_axis_node(std::size_t neighbour) const {
-    return model.kinematics == Kinematics::axisymmetric && neighbour < active.size() && active[neighbour];
+  bool axis_node_held() const {
+    return model.kinematics == Kinematics::axisymmetric && active.size() > 1 && active[1];
   }
 
   // Contact force of top node i at state x: N = lambda - eps g along the pin normal (the
@@ -313,7 +313,7 @@ struct PoroSolver::Impl {
       // Active set of the first iteration: the nodes the pin reaches at the start of the step.
       if (model.pin.enabled)
         for (std::size_t i = 0; i < active.size(); ++i) {
-          active[i] = node_contact(x, int(i), centre).force > 0 || (i == 0 && holds_axis_node(i + 1));
+          active[i] = node_contact(x, int(i), centre).force > 0 || (i == 0 && axis_node_held());
           if (!active[i]) multipliers[i] = 0;
         }
       for (int aug = 0;; ++aug) {
@@ -336,7 +336,7 @@ struct PoroSolver::Impl {
           bool changed = false;
           for (std::size_t i = 0; i < active.size(); ++i) {
             const double band = penalties[i] * gap_tolerance, f = node_contact(x, int(i), centre).force;
-            if (active[i] && f < -band && !(i == 0 && holds_axis_node(1))) {
+            if (active[i] && f < -band && !(i == 0 && axis_node_held())) {
               active[i] = 0;  // released: it carries nothing, its multiplier with it
               multipliers[i] = 0;
               ++releases[i];

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -23,6 +25,27 @@ fe::FeModel drained_fe_model(double nu) {
   const double mu = m.material.initial_shear_modulus();
   m.material.D = {3 * (1 - 2 * nu) / (mu * (1 + nu))};
   return m;
+}
+
+// Its pin force at depth d; a solve that stops short fails the test with its reason.
+double drained_force_N(const fe::FeModel& m, double d) {
+  const fe::FeResult r = fe::solve(m, {d});
+  if (!r.complete) throw std::runtime_error("drained FE stopped: " + r.stop_reason);
+  return r.steps.back().force_N;
+}
+
+// Water that left through the drained sides plus the water content change: zero if the
+// water volume is conserved.
+double water_balance_error(const poro::PoroState& s) {
+  return std::abs(s.water_outflow_mm3 + s.water_content_change_mm3);
+}
+
+// The ramp to the pin's depth in 10 equal time steps; returns the largest water balance error.
+double ramp_in_ten_steps(poro::PoroSolver& solver, double ramp) {
+  double worst = 0;
+  for (int n = 1; n <= 10; ++n)
+    worst = std::max(worst, water_balance_error(solver.advance_to(ramp * n / 10)));
+  return worst;
 }
 
 // The published skin as a biphasic pin problem (24 x 8 graded mesh, k0 = 1, phi0 = 0.25, top and
@@ -56,23 +79,16 @@ double smallest_volume_ratio_near_the_pin(const poro::PoroSolver& solver, double
 TEST(PoroPinRamp, CompressibleSkeletonThroughTheRampAndAHold) {
   const double d = 1.25, nu = 0.3, ramp = 30, hold = 60;
   const fe::FeModel drained_model = drained_fe_model(nu);
-  const fe::FeResult drained = fe::solve(drained_model, {d});
-  ASSERT_TRUE(drained.complete) << drained.stop_reason;
-  const double drained_force = drained.steps.back().force_N;
+  const double drained_force = drained_force_N(drained_model, d);
 
   poro::PoroSolver solver(published_pin_model(drained_model, d, ramp));
 
-  auto balance = [](const poro::PoroState& s) {
-    return std::abs(s.water_outflow_mm3 + s.water_content_change_mm3);
-  };
-  double worst_balance = 0;
-  for (int n = 1; n <= 10; ++n)
-    worst_balance = std::max(worst_balance, balance(solver.advance_to(ramp * n / 10)));
+  double worst_balance = ramp_in_ten_steps(solver, ramp);
   double force = solver.state().pin_force_N, outflow = solver.state().water_outflow_mm3;
   const double peak = force;
   for (int n = 1; n <= 6; ++n) {
     const auto& s = solver.advance_to(ramp + hold * n / 6);
-    worst_balance = std::max(worst_balance, balance(s));
+    worst_balance = std::max(worst_balance, water_balance_error(s));
     // Consolidation under a fixed pin: water leaves, the force relaxes, never below drained.
     EXPECT_GE(s.water_outflow_mm3, outflow) << "t = " << s.time_s;
     EXPECT_LE(s.pin_force_N, force) << "t = " << s.time_s;
@@ -101,23 +117,17 @@ TEST(PoroPinRamp, CompressibleSkeletonThroughTheRampAndAHold) {
 TEST(PoroPinRamp, OneMillimetreHoldAfterAFastRampKeepsThePoresOpen) {
   const double d = 1.0, nu = 0.3, ramp = 10, hold = 60;
   const fe::FeModel drained_model = drained_fe_model(nu);
-  const fe::FeResult drained = fe::solve(drained_model, {d});
-  ASSERT_TRUE(drained.complete) << drained.stop_reason;
-  const double drained_force = drained.steps.back().force_N;
+  const double drained_force = drained_force_N(drained_model, d);
 
   poro::PoroSolver solver(published_pin_model(drained_model, d, ramp));
 
-  double worst_balance = 0;
-  for (int n = 1; n <= 10; ++n) {
-    const auto& s = solver.advance_to(ramp * n / 10);
-    worst_balance = std::max(worst_balance, std::abs(s.water_outflow_mm3 + s.water_content_change_mm3));
-  }
+  double worst_balance = ramp_in_ten_steps(solver, ramp);
   const double peak = solver.state().pin_force_N;
   double force = peak, outflow = solver.state().water_outflow_mm3;
   for (double into_hold : {1.0, 2.0, 4.0, 7.0, 11.0, 20.0, 35.0, hold}) {
     const double t = ramp + into_hold;
     const auto& s = solver.advance_to(t);
-    worst_balance = std::max(worst_balance, std::abs(s.water_outflow_mm3 + s.water_content_change_mm3));
+    worst_balance = std::max(worst_balance, water_balance_error(s));
     EXPECT_LE(s.pin_force_N, force) << "t = " << t;
     EXPECT_GT(s.pin_force_N, drained_force) << "t = " << t;
     force = s.pin_force_N;
@@ -147,12 +157,10 @@ TEST(PoroPinRamp, OneMillimetreHoldAfterAFastRampKeepsThePoresOpen) {
 TEST(PoroPinRamp, LongHoldAtOnePointTwoFiveMillimetresTendsToTheDrainedForce) {
   const double d = 1.25, nu = 0.3, ramp = 30;
   const fe::FeModel drained_model = drained_fe_model(nu);
-  const fe::FeResult drained = fe::solve(drained_model, {d});
-  ASSERT_TRUE(drained.complete) << drained.stop_reason;
-  const double drained_force = drained.steps.back().force_N;
+  const double drained_force = drained_force_N(drained_model, d);
 
   poro::PoroSolver solver(published_pin_model(drained_model, d, ramp));
-  for (int n = 1; n <= 10; ++n) solver.advance_to(ramp * n / 10);
+  ramp_in_ten_steps(solver, ramp);
   double force = solver.state().pin_force_N;
   for (double into_hold : {342.0, 1000.0, 3000.0}) {  // as `predict --times 0,342,1000,3000`
     const auto& s = solver.advance_to(ramp + into_hold);
