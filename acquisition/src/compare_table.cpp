@@ -4,13 +4,15 @@
 
 #include <fmt/format.h>
 
+#include "tocd/core/printable.hpp"
+
 namespace tocd::acquisition {
 
 CompareTable compare_table(const db::Reader& reader, std::int64_t run_id) {
   CompareTable t;
   const db::RunRecord run = reader.run(run_id);
   t.run_id = run_id;
-  t.run_name = run.name;
+  t.run_name = printable_text(run.name);  // from a protocol file: no raw controls on a terminal
   t.status = std::string(db::to_string(reader.shown_status(run_id)));
   t.baseline_power_W = run.baseline_power_W;
   const auto load = reader.channel(run_id, "load");

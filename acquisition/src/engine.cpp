@@ -403,10 +403,14 @@ void Engine::resume() {
 
 void Engine::abort(const std::string& reason) {
   impl_->control.request_abort(reason);
+  // The operator wants the run to end now: predictions still running (also after the last
+  // step, when nothing else keeps the run) stop too.
+  impl_->predictions.cancel("run aborted: " + reason);
 }
 
 void Engine::stop_now(const std::string& reason) {
   impl_->control.stop_now(reason);
+  impl_->predictions.cancel("run stopped: " + reason);
 }
 
 EngineState Engine::wait() {
@@ -435,6 +439,11 @@ EngineStats Engine::stats() const {
   s.samples_dropped = impl_->recorder.dropped();
   s.poll_overruns = impl_->overruns;
   s.writer = impl_->recorder.writer_stats();
+  const PredictionQueue::Counts p = impl_->predictions.counts();
+  s.predictions_asked = p.asked;
+  s.predictions_stored = p.stored;
+  s.predictions_failed = p.failed;
+  s.predictions_cancelled = p.cancelled;
   return s;
 }
 

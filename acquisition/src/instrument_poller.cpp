@@ -48,22 +48,31 @@ class Pacer {
 /// trip when they last longer than the tolerance.
 class FaultTracker {
  public:
-  FaultTracker(Engine::Impl& m, std::string instrument) : m_(m), instrument_(std::move(instrument)) {}
+  FaultTracker(Engine::Impl& m, std::string instrument, bool used)
+      : m_(m), instrument_(std::move(instrument)), used_(used) {}
 
-  /// Returns false when the instrument has been failing for too long (the run was tripped);
-  /// `lost` (optional) runs before the trip, so whoever handles the trip knows.
+  /// Returns false when the instrument has been failing for too long (the run was tripped,
+  /// or for an instrument the protocol does not use, its polling ends); `lost` (optional)
+  /// runs before the trip, so whoever handles the trip knows.
   bool failed(const std::exception& e, const std::function<void()>& lost) {
     const std::int64_t now = m_.clock.now_ns();
-    ++m_.instrument_faults;
+    if (used_) ++m_.instrument_faults;
     if (count_++ == 0) {
       since_ = now;
-      m_.emit_event("fault", fmt::format("{}: {} (the driver's retries did not help)", instrument_, e.what()),
+      m_.emit_event("fault",
+                    fmt::format("{}: {} (the driver's retries did not help){}", instrument_, e.what(),
+                                used_ ? "" : "; not used by this protocol, no recording is affected"),
                     current_step());
     }
     if (static_cast<double>(now - since_) * 1e-9 > m_.opt.fault_tolerance_s) {
       if (lost) lost();
-      m_.trip(fmt::format("{} lost: failing for {:.1f} s ({} failed reads), last error: {}", instrument_,
-                          static_cast<double>(now - since_) * 1e-9, count_, e.what()));
+      const std::string why =
+          fmt::format("{} lost: failing for {:.1f} s ({} failed reads), last error: {}", instrument_,
+                      static_cast<double>(now - since_) * 1e-9, count_, e.what());
+      if (used_)
+        m_.trip(why);
+      else
+        m_.emit_event("fault", why + "; not used by this protocol: no longer polled", current_step());
       return false;
     }
     return true;
@@ -79,6 +88,7 @@ class FaultTracker {
   int current_step() { return m_.current_step; }
   Engine::Impl& m_;
   std::string instrument_;
+  bool used_;
   std::int64_t count_ = 0;
   std::int64_t since_ = 0;
 };
@@ -92,12 +102,12 @@ std::uint64_t drain(Engine::Impl& m, CommandQueue& queue, const char* instrument
 
 /// A poller that fell far behind has skipped readings: that is a fault of the instrument (a
 /// stalled driver), and a recording window it falls into is not a measurement.
-void overran(Engine::Impl& m, const char* instrument) {
+void overran(Engine::Impl& m, const char* instrument, bool used) {
   ++m.overruns;
-  ++m.instrument_faults;
+  if (used) ++m.instrument_faults;
   m.emit_event("fault",
-               fmt::format("{}: readings fell too far behind (a stalled driver); the poller skipped ahead",
-                           instrument),
+               fmt::format("{}: readings fell too far behind (a stalled driver); the poller skipped ahead{}",
+                           instrument, used ? "" : " (not used by this protocol, no recording is affected)"),
                m.current_step);
 }
 
@@ -128,7 +138,7 @@ class LiveBatch {
 
 void run_instrument_poller(Engine::Impl& m, const InstrumentPollerSpec& spec) {
   Pacer pacer(m.clock, m.stop_pollers, spec.rate_Hz);
-  FaultTracker faults(m, spec.instrument);
+  FaultTracker faults(m, spec.instrument, spec.used);
   LiveBatch live(m);
   const char* name = spec.instrument.c_str();
   while (!m.stop_pollers.requested()) {
@@ -140,7 +150,7 @@ void run_instrument_poller(Engine::Impl& m, const InstrumentPollerSpec& spec) {
       if (!faults.failed(e, spec.lost)) break;
     }
     live.maybe_flush();
-    if (pacer.wait()) overran(m, name);
+    if (pacer.wait()) overran(m, name, spec.used);
   }
   // Commands queued while the loop ended (a last stop, pump off) still reach the driver.
   if (spec.commands) drain(m, *spec.commands, name);

@@ -26,6 +26,10 @@ struct InstrumentPollerSpec {
   std::function<void(std::uint64_t commands_run, std::vector<LiveSample>& live)> read;
   /// Called once when the poller gives up on the instrument (before the run is tripped).
   std::function<void()> lost;
+  /// Whether the protocol uses this instrument (the vacuum controller in a pin protocol does
+  /// not). The faults of one it does not use are events only: they void no recording window,
+  /// and losing it ends its polling, not the run.
+  bool used = true;
 };
 
 /// Runs the loop of `spec` on the calling thread until the pollers are stopped or the

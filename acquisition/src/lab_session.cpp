@@ -1,6 +1,13 @@
 // The lab session: the one place where instruments, database, predictor and engine are wired.
 #include "tocd/acquisition/lab_session.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <thread>
+#include <utility>
+
+#include <fmt/format.h>
+
 #include "demo_protocol_text.hpp"
 
 namespace tocd::acquisition {
@@ -10,9 +17,7 @@ namespace {
 std::shared_ptr<StepPredictor> make_predictor(const LabSessionOptions& o) {
   if (o.predictor) return o.predictor;
   if (!o.predict) return nullptr;
-  // One FE + MC prediction at a time: the recorded steps come one by one and each prediction
-  // uses every core for its Monte Carlo.
-  return std::make_shared<SimStepPredictor>(std::make_shared<sim::study::Predictor>(1), *o.predict);
+  return make_recording_predictor(*o.predict);
 }
 
 EngineOptions with_lab_text(EngineOptions e, const devices::LabConfig& lab) {
@@ -21,6 +26,14 @@ EngineOptions with_lab_text(EngineOptions e, const devices::LabConfig& lab) {
 }
 
 }  // namespace
+
+std::shared_ptr<StepPredictor> make_recording_predictor(SimPredictorSettings settings) {
+  // One FE + MC prediction at a time: the recorded steps come one by one.
+  if (settings.mc_threads == 0)
+    settings.mc_threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()) - 1);
+  return std::make_shared<SimStepPredictor>(std::make_shared<sim::study::Predictor>(1, nullptr, true),
+                                            settings);
+}
 
 InstrumentSet to_instrument_set(devices::LabInstruments lab) {
   return InstrumentSet{std::move(lab.tester), std::move(lab.power_meter), std::move(lab.vacuum)};
@@ -37,6 +50,35 @@ LabSession::LabSession(db::Database& db, const devices::LabConfig& lab, LabSessi
     : LabSession(db, to_instrument_set(devices::open_lab(lab)),
                  LabSessionOptions{with_lab_text(options.engine, lab), options.predict, options.predictor},
                  observer) {}
+
+namespace {
+
+/// The fastest poll rate `protocol` asks of an instrument it uses, and which one.
+std::pair<double, const char*> fastest_rate(const Protocol& p) {
+  std::pair<double, const char*> out{p.rates.power_Hz, "power meter"};
+  if (p.kind != StepKind::vacuum && p.rates.tester_Hz > out.first) out = {p.rates.tester_Hz, "tester"};
+  if (p.kind == StepKind::vacuum && p.rates.pressure_Hz > out.first)
+    out = {p.rates.pressure_Hz, "vacuum controller"};
+  return out;
+}
+
+}  // namespace
+
+double max_simulated_clock_factor(const Protocol& protocol) {
+  // Two decimals, rounded down: the factor named must itself pass the check.
+  return std::floor(100.0 * kMaxSimulatedReadingsPerSecond / fastest_rate(protocol).first) / 100.0;
+}
+
+void check_simulated_clock_factor(const Protocol& protocol, double clock_factor) {
+  const auto [rate, instrument] = fastest_rate(protocol);
+  if (rate * clock_factor <= kMaxSimulatedReadingsPerSecond) return;
+  throw ConfigError(
+      fmt::format("clock factor {:g}: the protocol reads the {} at {:g} Hz, {:g} readings per real second of "
+                  "the simulated "
+                  "lab, which keeps up with at most {:g}; use a clock factor of {:g} or less",
+                  clock_factor, instrument, rate, rate * clock_factor, kMaxSimulatedReadingsPerSecond,
+                  max_simulated_clock_factor(protocol)));
+}
 
 std::string_view demo_protocol_text() {
   return kDemoProtocolToml;

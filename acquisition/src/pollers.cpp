@@ -96,6 +96,22 @@ void Engine::Impl::run_power_poller() {
   spec.read = [&](std::uint64_t, std::vector<LiveSample>& live) {
     const devices::PowerReading r = pm.measure();
     const std::int64_t t = clock.now_ns();
+    // Over range first: the driver reports it with a power of +inf (SCPI's 9.9E37). It is no
+    // sample and no broken read but a state of the meter, which the protocol's interlock
+    // decides about; a window it falls into is no measurement.
+    if (r.over_range) {
+      ++instrument_faults;
+      if (over_range_reported) return;
+      over_range_reported = true;
+      const std::string why = fmt::format("power meter over range ({:.4g} W)", r.power_W);
+      if (protocol.interlocks.power_over_range_pauses) {
+        request_pause(why);
+      } else {
+        emit_event("fault", why, current_step);
+      }
+      return;
+    }
+    over_range_reported = false;
     // A reading that cannot be light on the sensor is a failed read, not a sample.
     if (!std::isfinite(r.power_W))
       throw std::runtime_error(fmt::format("reading {} W is not a number", r.power_W));
@@ -105,18 +121,6 @@ void Engine::Impl::run_power_poller() {
           r.power_W, kNegativePowerTolerance * 100.0));
     }
     enqueue_sample(kPower, t, r.power_W, live);
-    if (!r.over_range) {
-      over_range_reported = false;
-      return;
-    }
-    if (over_range_reported) return;
-    over_range_reported = true;
-    const std::string why = fmt::format("power meter over range ({:.4g} W)", r.power_W);
-    if (protocol.interlocks.power_over_range_pauses) {
-      request_pause(why);
-    } else {
-      emit_event("fault", why, current_step);
-    }
   };
   run_instrument_poller(*this, spec);
 }
@@ -127,6 +131,7 @@ void Engine::Impl::run_vacuum_poller() {
   spec.instrument = "vacuum controller";
   spec.rate_Hz = protocol.rates.pressure_Hz;
   spec.commands = &vacuum_cmds;
+  spec.used = protocol.kind == StepKind::vacuum;
   spec.read = [&](std::uint64_t, std::vector<LiveSample>& live) {
     const devices::VacuumReading r = vac.read();
     const std::int64_t t = clock.now_ns();

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "tocd/core/error.hpp"
 #include "tocd/core/log.hpp"
 #include "tocd/core/version.hpp"
 
@@ -44,6 +45,7 @@ void PredictionQueue::push(const RecordedStep& step) {
     std::lock_guard lock(mu_);
     if (closed_) return;
     queue_.push_back(step);
+    ++counts_.asked;
   }
   cv_.notify_all();
 }
@@ -56,21 +58,51 @@ void PredictionQueue::close() {
   cv_.notify_all();
 }
 
+void PredictionQueue::cancel(const std::string& reason) {
+  {
+    std::lock_guard lock(mu_);
+    if (cancelled_) return;
+    cancelled_ = true;
+    cancel_reason_ = reason;
+  }
+  if (predictor_) predictor_->cancel();
+  cv_.notify_all();
+}
+
+PredictionQueue::Counts PredictionQueue::counts() const {
+  std::lock_guard lock(mu_);
+  return counts_;
+}
+
+void PredictionQueue::not_landed(const RecordedStep& step, const std::string& why, bool cancelled) {
+  {
+    std::lock_guard lock(mu_);
+    ++(cancelled ? counts_.cancelled : counts_.failed);
+  }
+  event_(fmt::format("step {}: {}", step.index + 1, why), step.index);
+}
+
 void PredictionQueue::run() {
   std::deque<std::pair<RecordedStep, std::future<PredictedStep>>> pending;
   for (;;) {
     std::deque<RecordedStep> fresh;
+    std::string cancelled;
     {
       std::unique_lock lock(mu_);
       if (pending.empty()) cv_.wait(lock, [&] { return closed_ || !queue_.empty(); });
       fresh.swap(queue_);
+      if (cancelled_) cancelled = cancel_reason_;
       if (fresh.empty() && pending.empty() && closed_) return;
     }
     for (const auto& step : fresh) {
+      if (!cancelled.empty()) {
+        not_landed(step, "not predicted: " + cancelled, true);
+        continue;
+      }
       try {
         pending.emplace_back(step, predictor_->predict(step));
       } catch (const std::exception& e) {
-        event_(fmt::format("step {}: prediction could not start: {}", step.index + 1, e.what()), step.index);
+        not_landed(step, fmt::format("prediction could not start: {}", e.what()), false);
       }
     }
     if (pending.empty()) continue;
@@ -79,12 +111,24 @@ void PredictionQueue::run() {
     try {
       const PredictedStep p = future.get();
       store(step, p);
+      {
+        std::lock_guard lock(mu_);
+        ++counts_.stored;
+      }
       event_(fmt::format("step {}: predicted T = {:.5f} +- {:.5f} (measured {:.5f}), {:.1f} s",
                          step.index + 1, p.T, p.T_stderr, step.measured_T, p.seconds),
              step.index);
       landed_(step.index, p);
+    } catch (const Cancelled& e) {
+      std::string reason;
+      {
+        std::lock_guard lock(mu_);
+        reason = cancel_reason_;
+      }
+      not_landed(step, fmt::format("not predicted: {} ({})", reason.empty() ? "cancelled" : reason, e.what()),
+                 true);
     } catch (const std::exception& e) {
-      event_(fmt::format("step {}: prediction failed: {}", step.index + 1, e.what()), step.index);
+      not_landed(step, fmt::format("prediction failed: {}", e.what()), false);
     }
     pending.pop_front();
   }

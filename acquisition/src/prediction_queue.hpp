@@ -40,10 +40,22 @@ class PredictionQueue {
   void push(const RecordedStep& step);
   /// No more steps come; the worker ends when the pending ones have landed.
   void close();
+  /// The pending predictions stop as soon as the predictor can stop them
+  /// (StepPredictor::cancel), and steps pushed from now on are not predicted: each that does
+  /// not land gets a "prediction" event naming `reason`. The worker still ends at close().
+  void cancel(const std::string& reason);
+
+  /// How the predictions of the run went so far (any thread).
+  struct Counts {
+    int asked = 0, stored = 0, failed = 0, cancelled = 0;
+  };
+  Counts counts() const;
 
  private:
   void run();
   void store(const RecordedStep& step, const PredictedStep& p);
+  /// The event and the count of a step whose prediction did not land.
+  void not_landed(const RecordedStep& step, const std::string& why, bool cancelled);
 
   db::Database& db_;
   std::shared_ptr<StepPredictor> predictor_;
@@ -51,11 +63,15 @@ class PredictionQueue {
   Landed landed_;
   std::int64_t run_id_ = 0;
 
-  // Invariant: `closed_` only goes from false to true; steps pushed after it are dropped.
-  std::mutex mu_;
+  // Invariant: `closed_` and `cancelled_` only go from false to true; steps pushed after
+  // closing are dropped, steps pushed after cancelling are reported not predicted.
+  mutable std::mutex mu_;
   std::condition_variable cv_;
   std::deque<RecordedStep> queue_;
   bool closed_ = false;
+  bool cancelled_ = false;
+  std::string cancel_reason_;
+  Counts counts_;
 
   std::thread worker_;
 };

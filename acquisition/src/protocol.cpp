@@ -165,11 +165,17 @@ class TableReader {
     return *n->value<bool>();
   }
 
+  /// Most values a list or a range may give.
+  static constexpr std::size_t kMaxValues = 10000;
+
   /// An array of numbers, or an inline table {from, to, count} for equally spaced values.
   std::vector<double> values(std::string_view key) const {
     const auto* n = t_.get(key);
     std::vector<double> out;
     if (const auto* arr = n->as_array()) {
+      // As for a {from, to, count} range: no protocol has more steps, and each one is minutes.
+      if (arr->size() > kMaxValues)
+        fail(n, key, fmt::format("has {} entries; at most {} are accepted", arr->size(), kMaxValues));
       for (const auto& e : *arr) {
         if (!e.is_number()) fail(&e, key, fmt::format("every entry must be a number, got {}", type_name(e)));
         out.push_back(as_double(e));
@@ -183,9 +189,9 @@ class TableReader {
       const double from = r.required_number("from");
       const double to = r.required_number("to");
       const double count = r.required_number("count");
-      if (count < 1 || count != std::floor(count) || count > 10000) {
+      if (count < 1 || count != std::floor(count) || count > static_cast<double>(kMaxValues)) {
         r.fail(range->get("count"), "count",
-               fmt::format("must be a whole number in 1..10000, got {}", count));
+               fmt::format("must be a whole number in 1..{}, got {}", kMaxValues, count));
       }
       return linear_steps(from, to, static_cast<int>(count));
     }

@@ -193,6 +193,9 @@ std::string Engine::Impl::window_problem(const ProtocolStep& step, const WindowO
   const std::array<double, kSlots> rate{protocol.rates.tester_Hz, protocol.rates.tester_Hz,
                                         protocol.rates.power_Hz, protocol.rates.pressure_Hz};
   for (int s = 0; s < kSlots; ++s) need.rate_Hz[s] = recorder.channel(s) != 0 ? rate[s] : 0.0;
+  // The pressure of a pin protocol is recorded when the lab has a vacuum controller, but no
+  // step depends on it: its readings never void a window.
+  if (protocol.kind != StepKind::vacuum) need.rate_Hz[kPressure] = 0.0;
   need.min_sample_fraction = protocol.min_sample_fraction;
   need.target_displacement_mm = steps->target_displacement_mm(step);
   need.position_tolerance_mm = protocol.position_tolerance_mm;
@@ -301,13 +304,19 @@ void Engine::Impl::finish(EngineState final_state, std::string why) {
         std::string problem;
         if (move_and_wait(0.0, protocol.retract_speed_mm_per_s, false, ignored, problem) !=
             MoveResult::arrived) {
-          emit_event("fault",
-                     control.stopping_now()
-                         ? "retraction cut short by a second abort: the pin was stopped where it is"
-                         : "pin did not reach home after the run; check the tester" +
-                               (problem.empty() ? std::string() : ": " + problem),
-                     current_step);
-          if (control.stopping_now()) send_tester("stop", [this] { inst.tester->stop(); });
+          if (control.stopping_now()) {
+            wait_command(tester_cmds, send_tester("stop", [this] { inst.tester->stop(); }), 2.0);
+            emit_event("operator",
+                       fmt::format("stopped at once: the pin is left at {:.4f} mm (the retraction was cut "
+                                   "short by a second abort)",
+                                   latest[kDisplacement] + protocol.contact_position_mm),
+                       current_step);
+          } else {
+            emit_event("fault",
+                       "pin did not reach home after the run; check the tester" +
+                           (problem.empty() ? std::string() : ": " + problem),
+                       current_step);
+          }
         }
       } else if (control.stopping_now()) {
         wait_command(tester_cmds, stop_cmd, 2.0);

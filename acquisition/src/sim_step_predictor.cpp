@@ -4,6 +4,7 @@
 #include <cmath>
 #include <utility>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "tocd/core/error.hpp"
@@ -25,6 +26,25 @@ SimStepPredictor::SimStepPredictor(std::shared_ptr<sim::study::Predictor> predic
                                    SimPredictorSettings settings)
     : predictor_(std::move(predictor)), settings_(std::move(settings)) {
   if (!predictor_) throw ConfigError("SimStepPredictor needs a sim::study::Predictor");
+  validate(settings_);
+}
+
+void validate(const SimPredictorSettings& settings) {
+  // The glass-only baseline every step is predicted against: its request carries every
+  // setting, and needs no sample geometry.
+  sim::study::PredictionRequest r;
+  r.baseline = true;
+  r.photons = settings.photons;
+  r.seed = settings.seed;
+  r.mesh_preset = settings.mesh_preset;
+  r.optics_model = settings.optics_model;
+  r.threads = settings.mc_threads;
+  r.material = settings.material;
+  try {
+    sim::study::validate(r);
+  } catch (const ConfigError& e) {
+    throw ConfigError(fmt::format("predictions: {}", e.what()));
+  }
 }
 
 sim::study::PredictionRequest SimStepPredictor::request_for(double displacement_mm,
@@ -38,7 +58,12 @@ sim::study::PredictionRequest SimStepPredictor::request_for(double displacement_
   r.seed = settings_.seed;
   r.mesh_preset = settings_.mesh_preset;
   r.threads = settings_.mc_threads;
+  r.cancel = cancel_;
   return r;
+}
+
+void SimStepPredictor::cancel() noexcept {
+  cancel_->store(true);
 }
 
 std::shared_future<sim::study::Prediction> SimStepPredictor::baseline(double thickness_mm) {

@@ -40,6 +40,14 @@ bool is_control(std::uint32_t cp) {
   return cp < 0x20 || cp == 0x7F || (cp >= 0x80 && cp <= 0x9F);
 }
 
+// Unicode's bidirectional formatting characters (the ALM, the LRM/RLM marks, the embeddings and
+// overrides U+202A-U+202E, the isolates U+2066-U+2069): invisible, they reorder what a
+// terminal shows after them, so a name could make a table read other than it is stored.
+bool is_bidi_control(std::uint32_t cp) {
+  return cp == 0x061C || cp == 0x200E || cp == 0x200F || (cp >= 0x202A && cp <= 0x202E) ||
+         (cp >= 0x2066 && cp <= 0x2069);
+}
+
 }  // namespace
 
 std::string printable_text(std::string_view raw) {
@@ -53,7 +61,7 @@ std::string printable_text(std::string_view raw) {
       ++i;
       continue;
     }
-    if (is_control(cp))
+    if (is_control(cp) || is_bidi_control(cp))
       out += kReplacement;
     else
       out.append(raw.substr(i, len));

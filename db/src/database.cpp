@@ -102,7 +102,22 @@ void require_writable(const std::filesystem::path& path) {
 Database::Database(const std::filesystem::path& path) {
   detail::identify(path);  // refuses foreign and newer files before anything is written
   require_writable(path);
+  const bool existed = std::filesystem::exists(path) && std::filesystem::file_size(path) > 0;
   detail::Connection c(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
+  // A damaged file is refused before anything is written into it (or anything moves on a rig
+  // whose run would record into it): SQLite would fail mid-run on the first damaged page it
+  // touches, or write beside the damage and leave it for later.
+  if (existed) {
+    if (const auto damage = detail::quick_check(c); !damage.empty()) {
+      std::string found;
+      for (std::size_t i = 0; i < damage.size() && i < 3; ++i) found += (i ? "; " : "") + damage[i];
+      throw DatabaseError(fmt::format(
+          "'{}' is damaged (SQLite quick_check: {}); nothing was written to it. Record into another "
+          "file (--db NEW.db); what this one still holds can be read with tocdlab runs/export, or "
+          "copied out with: sqlite3 '{}' .recover | sqlite3 recovered.db",
+          path.string(), found, path.string()));
+    }
+  }
   std::string journal_mode = detail::configure_read_write(c);
   detail::migrate(c);
   impl_ = std::make_unique<Impl>(path, std::move(c));
@@ -252,6 +267,11 @@ ResumePoint Database::resume_run(std::int64_t run_id) {
     p.gap_to_t_ns = monotonic_ns();
     const auto wall = wall_clock_ns();
     p.gap_from_t_ns = last.value_or(p.gap_to_t_ns);
+    // The clock restarted only if it is now behind where the run's last segment began (a
+    // reboot); samples stamped after "now" without that came from a sped-up simulated clock.
+    const auto anchors = detail::run_anchors(impl_->c, run_id);
+    const std::int64_t segment_began = anchors.empty() ? r.monotonic_anchor_ns : anchors.back().monotonic_ns;
+    const bool clock_restarted = segment_began > p.gap_to_t_ns;
     impl_->add_anchor(run_id, wall, p.gap_to_t_ns);
     Statement s(impl_->c, "UPDATE runs SET status = 'running', ended_utc_ns = NULL WHERE id = ?");
     s.bind(1, run_id).run();
@@ -259,17 +279,25 @@ ResumePoint Database::resume_run(std::int64_t run_id) {
     p.gap_event.t_ns = p.gap_to_t_ns;
     p.gap_event.kind = "gap";
     p.gap_event.step_index = p.first_incomplete_step;
+    // Steps are numbered from 1 wherever a user reads them (step_index stays 0-based).
+    const int step_shown = p.first_incomplete_step + 1;
     if (!last)
       p.gap_event.message = fmt::format("resumed (was {}, nothing recorded yet); continuing at step {}",
-                                        to_string(r.status), p.first_incomplete_step);
+                                        to_string(r.status), step_shown);
     else if (*last <= p.gap_to_t_ns)
-      p.gap_event.message = fmt::format("resumed after a gap of {:.3f} s (was {}); continuing at step {}",
-                                        static_cast<double>(p.gap_to_t_ns - *last) * 1e-9,
-                                        to_string(r.status), p.first_incomplete_step);
-    else  // the monotonic clock restarted (reboot): times before and after differ in anchor
+      p.gap_event.message =
+          fmt::format("resumed after a gap of {:.3f} s (was {}); continuing at step {}",
+                      static_cast<double>(p.gap_to_t_ns - *last) * 1e-9, to_string(r.status), step_shown);
+    else if (clock_restarted)  // a reboot: times before and after differ in anchor
       p.gap_event.message = fmt::format(
           "resumed (was {}; the monotonic clock restarted, see run_anchors); continuing at step {}",
-          to_string(r.status), p.first_incomplete_step);
+          to_string(r.status), step_shown);
+    else
+      p.gap_event.message = fmt::format(
+          "resumed (was {}; its last samples are stamped {:.3f} s ahead of now by a sped-up simulated "
+          "clock); "
+          "continuing at step {}",
+          to_string(r.status), static_cast<double>(*last - p.gap_to_t_ns) * 1e-9, step_shown);
     p.gap_event.data_json = fmt::format(R"({{"gap_from_t_ns":{},"gap_to_t_ns":{},"resumed_utc_ns":{}}})",
                                         p.gap_from_t_ns, p.gap_to_t_ns, wall);
     p.gap_event.id = impl_->insert_event(p.gap_event);

@@ -31,29 +31,12 @@ struct Reader::Impl {
     for (const auto& w : warnings) logger("db")->warn("{}", w);
   }
 
-  // SQLite's quick_check reads every page once and finds damaged b-trees and pages; the full
-  // integrity_check also cross-checks indexes. On a 100 MB file (warm cache, busy machine)
-  // quick_check took 0.7 s and integrity_check 4.8 s.
   std::string quick_check(const std::filesystem::path& p) const {
-    std::vector<std::string> found;
-    try {
-      Statement s(c, "PRAGMA quick_check(5)");
-      // One row per problem, though SQLite packs several lines into the first row.
-      while (s.step()) {
-        const std::string row = s.col_text(0);
-        for (std::size_t start = 0; start <= row.size();) {
-          const auto end = std::min(row.find('\n', start), row.size());
-          if (end > start) found.push_back(row.substr(start, end - start));
-          start = end + 1;
-        }
-      }
-    } catch (const DatabaseError& e) {
-      found.push_back(e.what());
-    }
-    if (found.size() == 1 && found[0] == "ok") return {};
+    const std::vector<std::string> found = detail::quick_check(c);
+    if (found.empty()) return {};
     std::string out =
         "'" + p.string() + "' is damaged (SQLite quick_check): what it shows may be incomplete or wrong;";
-    for (std::size_t i = 0; i < found.size() && i < 5; ++i) out += " " + printable_text(found[i]) + ";";
+    for (std::size_t i = 0; i < found.size() && i < 5; ++i) out += " " + found[i] + ";";
     if (found.size() > 5) out += fmt::format(" and {} more;", found.size() - 5);
     out.pop_back();
     return out;

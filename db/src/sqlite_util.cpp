@@ -1,9 +1,12 @@
 #include "sqlite_util.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <string>
 #include <system_error>
+
+#include "tocd/core/printable.hpp"
 
 namespace tocd::db::detail {
 
@@ -181,6 +184,27 @@ Transaction::~Transaction() {
 void Transaction::commit() {
   c_.exec("COMMIT");
   open_ = false;
+}
+
+std::vector<std::string> quick_check(const Connection& c) {
+  std::vector<std::string> found;
+  try {
+    Statement s(c, "PRAGMA quick_check(5)");
+    // One row per problem, though SQLite packs several lines into the first row.
+    while (s.step()) {
+      const std::string row = s.col_text(0);
+      for (std::size_t start = 0; start <= row.size();) {
+        const auto end = std::min(row.find('\n', start), row.size());
+        if (end > start) found.push_back(row.substr(start, end - start));
+        start = end + 1;
+      }
+    }
+  } catch (const DatabaseError& e) {
+    found.push_back(e.what());
+  }
+  if (found.size() == 1 && found[0] == "ok") return {};
+  for (auto& f : found) f = printable_text(f);
+  return found;
 }
 
 }  // namespace tocd::db::detail

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <sqlite3.h>
 
@@ -95,5 +96,11 @@ class Transaction {
   const Connection& c_;
   bool open_ = true;
 };
+
+/// What SQLite's quick_check finds wrong with the file behind `c`: every page read once,
+/// damaged b-trees and pages found (the full integrity_check also cross-checks indexes; on a
+/// 100 MB file, warm cache, busy machine, quick_check took 0.7 s and integrity_check 4.8 s).
+/// At most five problems, printable; empty when the file is sound.
+std::vector<std::string> quick_check(const Connection& c);
 
 }  // namespace tocd::db::detail

@@ -36,3 +36,16 @@ TEST(PrintableText, InvalidUtf8BecomesReplacementCharacters) {
   EXPECT_EQ(printable_text("\xF4\x90\x80\x80"), kFffd + kFffd + kFffd + kFffd);  // > U+10FFFF
   EXPECT_EQ(printable_text("\xE2\x82Z"), kFffd + kFffd + "Z");  // the byte after a bad one survives
 }
+
+TEST(PrintableText, BidirectionalFormattingCharactersAreReplaced) {
+  // U+202E (right-to-left override) would show "run 1 \u202Egol.exe" as "run 1 exe.log".
+  EXPECT_EQ(printable_text("a\xE2\x80\xAE"
+                           "b"),
+            "a\xEF\xBF\xBD"
+            "b");
+  EXPECT_EQ(printable_text("\xE2\x81\xA6x\xE2\x81\xA9"), "\xEF\xBF\xBDx\xEF\xBF\xBD");  // U+2066, U+2069
+  EXPECT_EQ(printable_text("\xE2\x80\x8F"), "\xEF\xBF\xBD");                            // U+200F
+  // Neighbours that are ordinary text stay: U+2029 (paragraph separator) is not touched here,
+  // U+2030 (per mille) is printable.
+  EXPECT_EQ(printable_text("\xE2\x80\xB0"), "\xE2\x80\xB0");
+}

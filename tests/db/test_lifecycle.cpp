@@ -98,7 +98,7 @@ TEST(DbLifecycle, InterruptedRunResumesAtFirstIncompleteStepWithAGapEvent) {
   EXPECT_GE(p.gap_to_t_ns, p.gap_from_t_ns);
   EXPECT_EQ(p.gap_event.kind, "gap");
   EXPECT_EQ(p.gap_event.step_index, 2);
-  EXPECT_THAT(p.gap_event.message, HasSubstr("continuing at step 2"));
+  EXPECT_THAT(p.gap_event.message, HasSubstr("continuing at step 3"));  // step_index 2, counted from 1
   EXPECT_TRUE(db.is_live(run));
 
   Reader rd(path);
@@ -134,3 +134,21 @@ TEST(DbLifecycle, AbortedRunCanBeResumedUnknownRunCannot) {
 }
 
 }  // namespace
+
+// A sped-up simulated clock stamps samples ahead of the monotonic clock; resuming such a run
+// soon after is no reboot, and the gap event must not say the clock restarted.
+TEST(DbLifecycle, ResumeAfterSamplesStampedAheadDoesNotClaimTheClockRestarted) {
+  TempDir dir;
+  const auto path = dir / "lab.sqlite";
+  std::int64_t run = 0;
+  {
+    Database db(path);
+    run = db.create_run({}).id;
+    db.add_step(completed_step(run, 0, tocd::monotonic_ns() + 30'000'000'000));  // 30 s ahead
+  }
+  Database db(path);
+  const ResumePoint p = db.resume_run(run);
+  EXPECT_THAT(p.gap_event.message, ::testing::Not(HasSubstr("restarted")));
+  EXPECT_THAT(p.gap_event.message, HasSubstr("ahead of now by a sped-up simulated clock"));
+  EXPECT_THAT(p.gap_event.message, HasSubstr("continuing at step 2"));
+}

@@ -3,8 +3,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -115,4 +117,45 @@ TEST_F(StoredConfig, AStepThatIsNotAConfigIsRefusedByName) {
   std::ofstream(dir_ / "bad.json") << R"({"quantity": "x", "step": 3, "baseline": {}})";
   EXPECT_NE(tocdlab(fmt::format("predict --config {}", (dir_ / "bad.json").string())), 0);
   EXPECT_NE(err_.find("\"step\" must be a prediction config object"), std::string::npos) << err_;
+}
+
+// What `predict --config` is given is read or refused, never replaced by the defaults: each
+// of these gave exit 0 and the default prediction before.
+TEST_F(StoredConfig, AConfigThatCannotBeReadAsWrittenIsRefusedNamingTheKey) {
+  // A real config to edit: predict's own --json output (its "config").
+  ASSERT_EQ(tocdlab("predict --displacement 0.5 --photons 2000 --json"), 0) << err_;
+  const nlohmann::json good = nlohmann::json::parse(out_)["config"];
+  ASSERT_EQ(good["kind"], "tocdlab.prediction");
+  struct Case {
+    std::string what;
+    nlohmann::json config;
+    std::string expect;
+  };
+  std::vector<Case> cases;
+  auto edited = [&](const std::function<void(nlohmann::json&)>& edit) {
+    nlohmann::json j = good;
+    edit(j);
+    return j;
+  };
+  cases.push_back({"misspelled key", edited([](auto& j) { j["displacment_mm"] = 1.0; }),
+                   "unknown key \"displacment_mm\""});
+  cases.push_back({"empty object", nlohmann::json::object(), "no \"kind\" key"});
+  cases.push_back(
+      {"wrong kind", edited([](auto& j) { j["kind"] = "tocdlab.study"; }), "\"kind\" is \"tocdlab.study\""});
+  cases.push_back(
+      {"unsupported version", edited([](auto& j) { j["version"] = 99; }), "\"version\" 99 is not supported"});
+  cases.push_back({"negative mu_s", edited([](auto& j) { j["compressed_optics"]["mu_s"] = -28.9; }), "mu_s"});
+  cases.push_back({"refractive index 0", edited([](auto& j) { j["compressed_optics"]["n"] = 0; }), "n"});
+  cases.push_back({"edited region optics", edited([](auto& j) { j["optics"]["4"]["mu_s"] = -28.9; }),
+                   "\"optics\" (region 4) differs"});
+  cases.push_back({"unknown optics key", edited([](auto& j) { j["compressed_optics"]["mua"] = 0.1; }),
+                   "unknown key \"mua\""});
+  cases.push_back(
+      {"unknown material key", edited([](auto& j) { j["material"]["Mu"] = {1.0}; }), "unknown key \"Mu\""});
+  for (const auto& c : cases) {
+    std::ofstream(dir_ / "edited.json") << c.config.dump();
+    EXPECT_EQ(tocdlab(fmt::format("predict --config {}", (dir_ / "edited.json").string())), 1) << c.what;
+    EXPECT_NE(err_.find(c.expect), std::string::npos) << c.what << ": " << err_;
+    EXPECT_EQ(out_, "") << c.what;
+  }
 }

@@ -1,10 +1,15 @@
 // tocdlab: the command line of the tissue-optical-clearing lab workbench.
 #include <algorithm>
+#include <cerrno>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
 #include <exception>
 #include <iostream>
 #include <string>
 
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
 
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
@@ -45,9 +50,35 @@ std::string usage_message(const CLI::App& app, const CLI::ParseError& e) {
   return e.what();
 }
 
+/// Every byte of data must reach standard output: a full disk (or /dev/full) under `> FILE`
+/// is an error, never an exit 0 with an empty file. Empty when all was written, else why not.
+std::string stdout_problem() {
+  std::cout.flush();
+  errno = 0;
+  const bool flushed = std::fflush(stdout) == 0;
+  const int error = errno;
+  if (flushed && !std::ferror(stdout) && std::cout.good()) return {};
+  return fmt::format("writing standard output failed{} (disk full?); the output is incomplete",
+                     error != 0 ? ": " + std::string(std::strerror(error)) : std::string());
+}
+
+/// The end of a command that succeeded: exit 0 only when its output was all written.
+int finish_ok() {
+  if (const std::string problem = stdout_problem(); !problem.empty())
+    return fail("error", problem.c_str(), 1);
+  tocd::sim::parallel::finish_world();
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A file-size limit (ulimit -f) must not kill the program between two writes with SIGXFSZ:
+  // ignored, a write beyond the limit fails with EFBIG, and that takes the disk-full path
+  // (the run ends interrupted and resumable, what was committed stays; an output file is an
+  // error naming it).
+  std::signal(SIGXFSZ, SIG_IGN);
+
   // Started by mpirun/srun: join the job now. Only rank 0 prints data; the others' standard
   // output is discarded so that `--json` stays one document.
   auto& team = tocd::sim::parallel::world();
@@ -83,8 +114,7 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);           // subcommand callbacks run inside parse
   } catch (const CLI::Success& e) {  // --help, --help-all, --version: on stdout
     app.exit(e);
-    tocd::sim::parallel::finish_world();
-    return 0;
+    return finish_ok();
   } catch (const CLI::ParseError& e) {
     std::cerr << "tocdlab: usage error: " << usage_message(app, e)
               << "\nRun with --help for more information.\n";
@@ -96,6 +126,5 @@ int main(int argc, char** argv) {
     return fail("internal error", e.what(), 1);
   }
   if (app.get_subcommands().empty()) std::cout << app.help();
-  tocd::sim::parallel::finish_world();
-  return 0;
+  return finish_ok();
 }

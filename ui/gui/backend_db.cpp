@@ -105,7 +105,7 @@ RunDetails read_run_details(const db::Reader& reader, std::int64_t run_id, std::
 }
 
 RunBrowserBackend::RunBrowserBackend(QObject* parent)
-    : QObject(parent), tasks_(new TaskRunner(this)), fits_(new TaskRunner(this)) {}
+    : QObject(parent), tasks_(new TaskRunner(this)), fits_(new TaskRunner(this, 1, true)) {}
 
 RunBrowserBackend::~RunBrowserBackend() {
   tasks_->wait();

@@ -45,6 +45,16 @@ void RunBackend::start(const acquisition::Protocol& protocol, const QString& db_
     emit failed(tr("Starting a run"), tr("a run is already going"));
     return;
   }
+  // A clock factor other than 1 is the simulated lab's: refuse one it cannot keep up with
+  // before anything moves, naming the highest that works.
+  if (options.clock_factor != 1.0) {
+    try {
+      acquisition::check_simulated_clock_factor(protocol, options.clock_factor);
+    } catch (const std::exception& e) {
+      emit failed(tr("Starting a run"), QString::fromUtf8(e.what()));
+      return;
+    }
+  }
   release();
   active_ = true;
   db_path_ = db_path;

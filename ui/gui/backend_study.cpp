@@ -8,6 +8,7 @@
 #include "background.hpp"
 
 #if TOCD_GUI_WITH_STUDY
+#include "tocd/acquisition/lab_session.hpp"
 #include "tocd/acquisition/sim_step_predictor.hpp"
 #include "tocd/sim/study/predictor.hpp"
 #include "tocd/sim/study/study.hpp"
@@ -15,7 +16,7 @@
 
 namespace tocd::gui {
 
-StudyBackend::StudyBackend(QObject* parent) : QObject(parent), tasks_(new TaskRunner(this)) {}
+StudyBackend::StudyBackend(QObject* parent) : QObject(parent), tasks_(new TaskRunner(this, 1, true)) {}
 
 StudyBackend::~StudyBackend() {
   tasks_->wait();
@@ -134,7 +135,7 @@ std::shared_ptr<acquisition::StepPredictor> make_simulator_step_predictor(qulong
   // as the measured T is relative to the glass-only baseline power.
   acquisition::SimPredictorSettings settings;
   settings.photons = photons;
-  return std::make_shared<acquisition::SimStepPredictor>(std::make_shared<study::Predictor>(1), settings);
+  return acquisition::make_recording_predictor(settings);
 }
 
 #else  // no simulator in this build

@@ -1,9 +1,12 @@
 #include "background.hpp"
 
+#include <QThread>
+
 namespace tocd::gui {
 
-TaskRunner::TaskRunner(QObject* parent, int max_threads) : QObject(parent) {
+TaskRunner::TaskRunner(QObject* parent, int max_threads, bool background) : QObject(parent) {
   pool_.setMaxThreadCount(max_threads);
+  if (background) pool_.setThreadPriority(QThread::IdlePriority);
 }
 
 TaskRunner::~TaskRunner() {

@@ -19,7 +19,10 @@ class TaskRunner : public QObject {
   Q_OBJECT
 
  public:
-  explicit TaskRunner(QObject* parent = nullptr, int max_threads = 1);
+  /// `background`: the work is computation (studies, fits) that may run beside a recording;
+  /// its threads run at the idle priority (SCHED_IDLE), and the threads it starts inherit
+  /// that, so that it never costs the instruments' pollers a reading.
+  explicit TaskRunner(QObject* parent = nullptr, int max_threads = 1, bool background = false);
   ~TaskRunner() override;
 
   template <class T>

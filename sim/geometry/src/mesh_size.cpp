@@ -67,4 +67,28 @@ ResolvedSize resolve_size(const MeshSize& size) {
   return r;
 }
 
+double estimated_tets(const CompositeSpec& spec) {
+  const ResolvedSize size = resolve_size(spec.size);
+  const double height = spec.slide_thickness_mm + spec.skin.thickness_mm + spec.pin_length_mm;
+  const double volume_tets = spec.slide_size_mm * spec.slide_size_mm * height / size.max_volume_mm3;
+  // Revolved outlines: the pin's side and top, the skin's top out to the box, the slide's top;
+  // the tip's quarter circle at its own finer segment length.
+  const double outline_mm = spec.pin_length_mm + spec.pin_radius_mm + 2.0 * spec.slide_size_mm;
+  const double tip_mm = 0.5 * M_PI * spec.pin_radius_mm;
+  const double facets =
+      2.0 * size.azimuth_segments * (outline_mm / size.section_edge_mm + tip_mm / size.tip_edge_mm);
+  return std::max(volume_tets, 2.0 * facets);
+}
+
+void check_mesh_size(const CompositeSpec& spec) {
+  const double tets = estimated_tets(spec);
+  if (tets <= kMaxCompositeTets) return;
+  const ResolvedSize size = resolve_size(spec.size);
+  throw GeometryError(fmt::format(
+      "mesh size: at least {:.3g} tets estimated (element edge {:g} mm, tip segments {:g} mm, volume bound "
+      "{:.3g} mm^3), above the limit of {:.0f}; choose a larger max edge or tip edge (the paper preset has "
+      "about 500000 tets)",
+      tets, size.edge_mm, size.tip_edge_mm, size.max_volume_mm3, kMaxCompositeTets));
+}
+
 }  // namespace tocd::sim::geometry

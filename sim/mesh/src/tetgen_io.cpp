@@ -100,6 +100,13 @@ class TableReader {
     return v;
   }
 
+  /// Fails when index `i` (0-based) was given before: each row numbers its own item, and a
+  /// repeated number would leave another item unset (read as node 0 four times: "degenerate").
+  void first_time(std::vector<bool>& seen, std::int32_t i, const char* what, std::int64_t base) const {
+    if (seen[static_cast<std::size_t>(i)]) fail(fmt::format("{} {} is given twice", what, i + base));
+    seen[static_cast<std::size_t>(i)] = true;
+  }
+
   std::int32_t as_index(double v, std::int64_t base, std::int64_t count, const char* what) const {
     if (v != std::floor(v)) fail(fmt::format("{} {} is not an integer", what, v));
     if (!(v >= static_cast<double>(base) && v < static_cast<double>(base + count)))
@@ -134,6 +141,7 @@ TetMesh read_tetgen(const std::filesystem::path& prefix) {
     if (head.size() > 1 && head[1] != 3)
       r.fail(fmt::format("dimension {} given, only 3 is supported", head[1]));
     mesh.nodes.resize(static_cast<std::size_t>(count));
+    std::vector<bool> seen(static_cast<std::size_t>(count), false);
     for (std::int64_t i = 0; i < count; ++i) {
       const auto row = r.require(4, "a node row (index x y z)");
       // Compared as a double before any conversion: a first index of 1e37 must be an error,
@@ -141,6 +149,7 @@ TetMesh read_tetgen(const std::filesystem::path& prefix) {
       if (i == 0 && row[0] != 0 && row[0] != 1) r.fail("node indices must start at 0 or 1");
       if (i == 0) base = row[0] == 1 ? 1 : 0;
       const auto idx = r.as_index(row[0], base, count, "node index");
+      r.first_time(seen, idx, "node index", base);
       mesh.nodes[static_cast<std::size_t>(idx)] = {r.as_coordinate(row[1], 'x'), r.as_coordinate(row[2], 'y'),
                                                    r.as_coordinate(row[3], 'z')};
     }
@@ -156,9 +165,11 @@ TetMesh read_tetgen(const std::filesystem::path& prefix) {
     const int attrs = head.size() > 2 ? r.as_small(head[2], kMaxAttributes, "attribute count") : 0;
     mesh.tets.resize(static_cast<std::size_t>(count));
     mesh.regions.assign(static_cast<std::size_t>(count), 0);
+    std::vector<bool> seen(static_cast<std::size_t>(count), false);
     for (std::int64_t i = 0; i < count; ++i) {
       const auto row = r.require(static_cast<std::size_t>(1 + per_tet + attrs), "a tet row");
       const auto t = static_cast<std::size_t>(r.as_index(row[0], base, count, "tet index"));
+      r.first_time(seen, static_cast<std::int32_t>(t), "tet index", base);
       for (int k = 0; k < 4; ++k) mesh.tets[t][k] = r.as_index(row[1 + k], base, nn, "node");
       if (attrs > 0) {
         mesh.regions[t] = r.as_label(row[1 + per_tet], "region attribute");

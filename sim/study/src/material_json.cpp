@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "json_keys.hpp"
 #include "tocd/core/error.hpp"
 
 namespace tocd::sim::study {
@@ -12,6 +13,7 @@ nlohmann::json material_to_json(const tocd::sim::material::OgdenParameters& m) {
 
 tocd::sim::material::OgdenParameters material_from_json(const nlohmann::json& j) {
   tocd::sim::material::OgdenParameters m;
+  require_known_keys(j, {"mu", "alpha", "D"}, "material in config");
   try {
     m.mu = j.at("mu").get<std::vector<double>>();
     m.alpha = j.at("alpha").get<std::vector<double>>();

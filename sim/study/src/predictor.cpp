@@ -9,6 +9,8 @@
 
 #include "material_json.hpp"
 #include "tocd/core/error.hpp"
+#include "tocd/core/log.hpp"
+#include "tocd/core/thread_priority.hpp"
 #include "tocd/sim/fe/solve.hpp"
 #include "tocd/sim/geometry/composite.hpp"
 #include "tocd/sim/mc/output.hpp"
@@ -23,6 +25,12 @@ namespace tocd::sim::study {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+/// Throws tocd::Cancelled when the request's cancel flag is set; `where` says what is stopped.
+void check_cancel(const PredictionRequest& r, const char* where) {
+  if (r.cancel && r.cancel->load()) throw tocd::Cancelled(fmt::format("prediction cancelled {}", where));
+}
+
 double since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
@@ -146,7 +154,8 @@ struct Predictor::Impl {
   std::shared_ptr<const FeEntry> solve_fe(const PredictionRequest& r, bool& hit) {
     auto got = fe.get_or_compute(fe_key(r), [&] {
       const auto t0 = Clock::now();
-      fe::FeResult res = fe::solve(fe_model(r), {r.displacement_mm});
+      fe::FeResult res = fe::solve(fe_model(r), {r.displacement_mm},
+                                   [&r](double) { check_cancel(r, "during the FE solve"); });
       if (!res.complete || res.steps.empty())
         throw tocd::Error(fmt::format("FE solve to {} mm in {} mm skin stopped: {}", r.displacement_mm,
                                       r.thickness_mm, res.stop_reason));
@@ -163,10 +172,11 @@ struct Predictor::Impl {
     fe_hit = true;
     if (needs_fe(r)) fe_entry = solve_fe(r, fe_hit);
     auto got = meshes.get_or_compute(mesh_key(r), [&] {
+      check_cancel(r, "before meshing");
       const auto t0 = Clock::now();
       const geometry::SkinProfile profile =
           fe_entry ? to_skin_profile(fe_entry->step, r.thickness_mm) : flat_skin_profile(r.thickness_mm);
-      MeshEntry m{geometry::build_composite(composite_spec(r, profile)), fe_entry, 0.0};
+      MeshEntry m{geometry::build_composite(composite_spec(r, profile), r.cancel.get()), fe_entry, 0.0};
       m.seconds = since(t0);
       return m;
     });
@@ -214,6 +224,7 @@ Predictor::Staged Predictor::stage(const PredictionRequest& r) {
   Staged st;
   Prediction& out = st.out;
   out.config = to_config(r);  // validates
+  check_cancel(r, "before the FE solve");
   const auto t_fe = Clock::now();
   bool fe_hit = true, mesh_hit = true;
   // FE first (its time is reported apart), then mesh and preparation.
@@ -240,9 +251,7 @@ Predictor::Staged Predictor::stage(const PredictionRequest& r) {
   out.mesh_stats["cached"] = mesh_hit;
   out.tets = st.prepared->prepared.mesh.tets.size();
 
-  st.optics = (!r.baseline && r.optics_model == "graded") ? graded_optics(r.graded)
-                                                          : threshold_optics(r.compressed_optics);
-  if (r.slide_n > 0) st.optics.regions[geometry::Region::slide].n = r.slide_n;
+  st.optics = optics_of(r);
   st.source.kind = mc::Source::Kind::marker;
   st.source.marker = geometry::Marker::pin_top;
   mc::RunSettings& s = st.settings;
@@ -253,6 +262,8 @@ Predictor::Staged Predictor::stage(const PredictionRequest& r) {
   s.ambient_n = 1.0;
   s.tally_per_tet = !r.fluence_dir.empty();
   s.progress = r.mc_progress;
+  s.cancel = r.cancel.get();
+  check_cancel(r, "after meshing");
   return st;
 }
 
@@ -273,8 +284,7 @@ void Predictor::complete(const PredictionRequest& r, Staged& st, const mc::Resul
   out.specular = res.specular.mean;
   out.mc = mc::to_json(res);
   out.mc["source"] = mc::describe(st.source);
-  out.config["optics"] = nlohmann::json::object();
-  for (const auto& [id, o] : st.optics.regions) out.config["optics"][std::to_string(id)] = to_json(o);
+  out.config["optics"] = optics_record(r);
 
   if (!r.fluence_dir.empty()) {
     const double tip_z = r.baseline ? 0.0 : r.thickness_mm - r.displacement_mm;
@@ -294,6 +304,10 @@ Prediction Predictor::predict(const PredictionRequest& r) {
   Staged st = stage(r);
   st.settings.team = team_;
   const mc::Result res = mc::run(st.prepared->prepared, st.optics, st.source, st.settings);
+  if (res.cancelled) {
+    throw tocd::Cancelled(fmt::format("prediction cancelled during the Monte Carlo ({} of {} photons)",
+                                      res.photons, r.photons));
+  }
   complete(r, st, res);
   return std::move(st.out);
 }
@@ -313,10 +327,10 @@ Prediction Predictor::assemble(const PredictionRequest& r, const mc::Tallies& su
   return std::move(st.out);
 }
 
-Predictor::Predictor(int worker_threads, parallel::Team* team)
+Predictor::Predictor(int worker_threads, parallel::Team* team, bool background)
     : impl_(std::make_unique<Impl>()), team_(team && team->size() > 1 ? team : nullptr) {
   const int n = std::max(1, worker_threads);
-  for (int i = 0; i < n; ++i) workers_.emplace_back([this] { work(); });
+  for (int i = 0; i < n; ++i) workers_.emplace_back([this, background] { work(background); });
 }
 
 Predictor::~Predictor() {
@@ -340,7 +354,10 @@ std::future<Prediction> Predictor::submit(const PredictionRequest& r) {
   return future;
 }
 
-void Predictor::work() {
+void Predictor::work(bool background) {
+  // Before the first Monte Carlo: the OpenMP threads this thread starts inherit its priority.
+  if (background && !run_this_thread_in_background())
+    tocd::logger("sim")->warn("prediction worker: could not lower its scheduling priority");
   for (;;) {
     std::packaged_task<Prediction()> task;
     {

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include "json_keys.hpp"
 #include "json_whole_number.hpp"
 #include "material_json.hpp"
 #include "tocd/core/error.hpp"
@@ -11,6 +12,9 @@
 
 namespace tocd::sim::study {
 namespace {
+
+constexpr const char* kKind = "tocdlab.prediction";
+constexpr int kVersion = 1;
 
 void require(bool ok, const std::string& what) {
   if (!ok) throw tocd::ConfigError("prediction request: " + what);
@@ -32,6 +36,10 @@ void validate(const PredictionRequest& r) {
           fmt::format("mesh_preset must be 'fast' or 'paper', got '{}'", r.mesh_preset));
   require(r.photons > 0, "photons must be > 0");
   require(r.batches >= 2, fmt::format("batches must be >= 2, got {}", r.batches));
+  require(
+      r.photons >= static_cast<std::uint64_t>(r.batches),
+      fmt::format("photons must be at least the {} Monte Carlo batches (each batch needs a photon), got {}",
+                  r.batches, r.photons));
   require(r.threads >= 0, fmt::format("threads must be >= 0, got {}", r.threads));
   require(r.max_edge_mm >= 0.0, fmt::format("max_edge_mm must be >= 0, got {}", r.max_edge_mm));
   require(r.tip_edge_mm >= 0.0, fmt::format("tip_edge_mm must be >= 0, got {}", r.tip_edge_mm));
@@ -48,6 +56,23 @@ void validate(const PredictionRequest& r) {
                       r.fe_outer_radius_mm));
   require(r.slide_n == 0.0 || (r.slide_n >= 1.0 && r.slide_n < 3.0),
           fmt::format("slide_n {} must be 0 (glass) or in [1, 3)", r.slide_n));
+  // A mesh too fine to build is refused before the FE (TetGen would run for hours).
+  geometry::CompositeSpec mesh;
+  mesh.slide_size_mm = r.slide_size_mm;
+  mesh.skin_size_mm = r.slide_size_mm;
+  mesh.slide_thickness_mm = r.slide_thickness_mm;
+  mesh.pin_radius_mm = r.pin_radius_mm;
+  mesh.pin_length_mm = r.pin_length_mm;
+  mesh.skin.thickness_mm = r.thickness_mm;
+  mesh.size.preset = r.mesh_preset;
+  mesh.size.max_edge_mm = r.max_edge_mm;
+  mesh.size.tip_edge_mm = r.tip_edge_mm;
+  try {
+    geometry::check_mesh_size(mesh);
+  } catch (const geometry::GeometryError& e) {
+    throw ConfigError(
+        fmt::format("max_edge_mm {} / tip_edge_mm {}: {}", r.max_edge_mm, r.tip_edge_mm, e.what()));
+  }
   mc::Optics one;
   one.regions[geometry::Region::compressed] = r.compressed_optics;
   mc::validate(one, "compressed_optics");
@@ -57,8 +82,8 @@ void validate(const PredictionRequest& r) {
 nlohmann::json to_config(const PredictionRequest& r) {
   validate(r);
   nlohmann::json j;
-  j["kind"] = "tocdlab.prediction";
-  j["version"] = 1;
+  j["kind"] = kKind;
+  j["version"] = kVersion;
   j["displacement_mm"] = r.displacement_mm;
   j["thickness_mm"] = r.thickness_mm;
   j["material"] = material_to_json(r.material);
@@ -85,8 +110,66 @@ nlohmann::json to_config(const PredictionRequest& r) {
   return j;
 }
 
+mc::Optics optics_of(const PredictionRequest& r) {
+  mc::Optics o = (!r.baseline && r.optics_model == "graded") ? graded_optics(r.graded)
+                                                             : threshold_optics(r.compressed_optics);
+  if (r.slide_n > 0) o.regions[geometry::Region::slide].n = r.slide_n;
+  return o;
+}
+
+nlohmann::json optics_record(const PredictionRequest& r) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [id, o] : optics_of(r).regions) j[std::to_string(id)] = to_json(o);
+  return j;
+}
+
+namespace {
+
+// What a config may say about itself: this kind, this version (either may be left out of a
+// hand-written request; config_document_from_json asks for the kind).
+void check_kind_and_version(const nlohmann::json& j) {
+  if (j.contains("kind") && j.at("kind") != kKind)
+    throw tocd::ConfigError(
+        fmt::format("prediction config: \"kind\" is {}, expected \"{}\"", j.at("kind").dump(), kKind));
+  if (j.contains("version") && j.at("version") != kVersion)
+    throw tocd::ConfigError(
+        fmt::format("prediction config: \"version\" {} is not supported (this tocdlab reads version {})",
+                    j.at("version").dump(), kVersion));
+}
+
+}  // namespace
+
 PredictionRequest request_from_config(const nlohmann::json& j) {
   if (!j.is_object()) throw tocd::ConfigError("prediction config: expected a JSON object");
+  require_known_keys(j,
+                     {"kind",
+                      "version",
+                      "displacement_mm",
+                      "thickness_mm",
+                      "material",
+                      "optics_model",
+                      "photons",
+                      "seed",
+                      "mesh_preset",
+                      "baseline",
+                      "compressed_optics",
+                      "graded",
+                      "batches",
+                      "max_edge_mm",
+                      "tip_edge_mm",
+                      "pin_length_mm",
+                      "pin_radius_mm",
+                      "slide_size_mm",
+                      "slide_thickness_mm",
+                      "fe_refinement",
+                      "fe_kinematics",
+                      "fe_bottom",
+                      "compressed_log_strain",
+                      "fe_outer_radius_mm",
+                      "slide_n",
+                      "optics"},
+                     "prediction config");
+  check_kind_and_version(j);
   PredictionRequest r;
   try {
     auto num = [&](const char* key, double& v) {
@@ -126,6 +209,25 @@ PredictionRequest request_from_config(const nlohmann::json& j) {
     throw tocd::ConfigError(fmt::format("prediction config: {}", e.what()));
   }
   validate(r);
+  // "optics" records what every region got from the fields above; it is not an input. An
+  // edited copy would be silently replaced, so it must match or the config is refused.
+  if (j.contains("optics") && j.at("optics") != optics_record(r)) {
+    std::string region = "?";
+    const nlohmann::json want = optics_record(r);
+    if (j.at("optics").is_object()) {
+      for (const auto& [id, o] : j.at("optics").items())
+        if (!want.contains(id) || want.at(id) != o) {
+          region = id;
+          break;
+        }
+    }
+    throw tocd::ConfigError(fmt::format(
+        "prediction config: \"optics\" (region {}) differs from the optics the config's fields give; it is "
+        "the "
+        "record of a prediction's optics, not an input: edit \"compressed_optics\" (threshold model) or "
+        "\"graded\" instead, or remove \"optics\"",
+        region));
+  }
   return r;
 }
 
@@ -134,18 +236,31 @@ ConfigDocument config_document_from_json(const nlohmann::json& document) {
   // `predict --json` output: the config is one level down.
   if (j->is_object() && j->contains("config") && j->at("config").is_object()) j = &j->at("config");
   ConfigDocument d;
+  // A document is something tocdlab wrote: each config in it names its kind ("{}" or a
+  // stray JSON file is refused, not read as the defaults).
+  const auto require_kind = [](const nlohmann::json& c, const char* where) {
+    if (c.is_object() && !c.contains("kind"))
+      throw tocd::ConfigError(fmt::format(
+          "prediction config{}: no \"kind\" key; a tocdlab prediction config has \"kind\": \"{}\" "
+          "(write one with tocdlab predict --json)",
+          where, kKind));
+  };
   if (!j->is_object() || !j->contains("step")) {
+    require_kind(*j, "");
     d.step = request_from_config(*j);
     return d;
   }
+  require_known_keys(*j, {"quantity", "step", "baseline"}, "stored prediction config");
   // A run's stored prediction: T(step) / T(baseline), each with its own full config.
   if (!j->at("step").is_object())
     throw tocd::ConfigError("prediction config: \"step\" must be a prediction config object");
+  require_kind(j->at("step"), " \"step\"");
   d.step = request_from_config(j->at("step"));
   if (j->contains("baseline")) {
     if (!j->at("baseline").is_object())
       throw tocd::ConfigError(
           "prediction config: \"baseline\" beside \"step\" must be a prediction config object");
+    require_kind(j->at("baseline"), " \"baseline\"");
     d.baseline = request_from_config(j->at("baseline"));
   }
   if (j->contains("quantity")) {

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "json_keys.hpp"
 #include "json_whole_number.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/sim/geometry/composite.hpp"
@@ -100,6 +101,7 @@ nlohmann::json to_json(const mc::RegionOptics& o) {
 }
 
 mc::RegionOptics region_optics_from_json(const nlohmann::json& j) {
+  require_known_keys(j, {"mu_a", "mu_s", "g", "n", "name"}, "optics in config");
   try {
     mc::RegionOptics o{j.at("mu_a").get<double>(), j.at("mu_s").get<double>(), j.at("g").get<double>(),
                        j.at("n").get<double>(), j.value("name", std::string{})};
@@ -122,6 +124,7 @@ nlohmann::json to_json(const GradedOptics& g) {
 
 GradedOptics graded_from_json(const nlohmann::json& j) {
   GradedOptics g;
+  require_known_keys(j, {"native", "cleared", "full_strain", "bins"}, "graded optics in config");
   try {
     g.native = region_optics_from_json(j.at("native"));
     g.cleared = region_optics_from_json(j.at("cleared"));

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <sstream>
 #include <thread>
+#include <vector>
 
 #include <fcntl.h>
 #include <fmt/format.h>
@@ -83,6 +84,35 @@ class CliRun : public ::testing::Test {
     return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
   }
 
+  /// Starts tocdlab with `args` in the background, stdout and stderr both into out_path().
+  pid_t spawn(const std::vector<std::string>& args) {
+    std::vector<std::string> words{TOCDLAB_EXE};
+    words.insert(words.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (auto& w : words) argv.push_back(w.data());
+    argv.push_back(nullptr);
+    const std::string out = out_path().string();
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
+                                     0644);
+    posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+    pid_t pid = 0;
+    const int rc = posix_spawn(&pid, words[0].c_str(), &actions, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    return rc == 0 ? pid : -1;
+  }
+  fs::path out_path() const { return dir_ / "spawned.out"; }
+  /// Waits until the spawned process has printed `text` (true) or `seconds` have passed.
+  bool wait_for_output(const std::string& text, double seconds) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    while (slurp(out_path()).find(text) == std::string::npos) {
+      if (std::chrono::steady_clock::now() > deadline) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return true;
+  }
+
   fs::path write(const std::string& name, const std::string& text) {
     std::ofstream(dir_ / name) << text;
     return dir_ / name;
@@ -156,31 +186,18 @@ TEST_F(CliRun, NotADatabaseIsRefusedAndLeftAlone) {
 TEST_F(CliRun, SigintAbortsGracefullyAndTheRunResumes) {
   const auto p = write("p.toml", protocol(60.0));  // long recording windows
   const auto db = dir_ / "lab.db";
-  const std::string out = (dir_ / "out").string();
-  std::string exe = TOCDLAB_EXE, a1 = "run", a2 = p.string(), a3 = "--simulated", a4 = "--clock-factor",
-              a5 = "5", a6 = "--db", a7 = db.string(), a8 = "--no-predict";
-  char* args[] = {exe.data(), a1.data(), a2.data(), a3.data(), a4.data(),
-                  a5.data(),  a6.data(), a7.data(), a8.data(), nullptr};
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  pid_t pid = 0;
-  ASSERT_EQ(posix_spawn(&pid, exe.c_str(), &actions, nullptr, args, environ), 0);
-  posix_spawn_file_actions_destroy(&actions);
+  const pid_t pid =
+      spawn({"run", p.string(), "--simulated", "--clock-factor", "5", "--db", db.string(), "--no-predict"});
+  ASSERT_GT(pid, 0);
   // Wait for the first step to be recording (5 x faster: approach, settle, hold take ~0.5 s).
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-  while (slurp(out).find("recording into") == std::string::npos &&
-         std::chrono::steady_clock::now() < deadline) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
+  wait_for_output("recording into", 30.0);
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
   ASSERT_EQ(::kill(pid, SIGINT), 0);
   int status = 0;
   ::waitpid(pid, &status, 0);
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 0);
-  const std::string said = slurp(out);
+  const std::string said = slurp(out_path());
   EXPECT_NE(said.find("run 1 aborted; all data kept"), std::string::npos) << said;
   {
     const tocd::db::Reader r(db);
@@ -205,23 +222,10 @@ TEST_F(CliRun, SigintAbortsGracefullyAndTheRunResumes) {
 TEST_F(CliRun, AKilledRunIsShownInterruptedByEveryReaderWithoutWritingTheFile) {
   const auto p = write("p.toml", protocol(60.0));
   const auto db = dir_ / "lab.db";
-  const std::string out = (dir_ / "out").string();
-  std::string exe = TOCDLAB_EXE, a1 = "run", a2 = p.string(), a3 = "--simulated", a4 = "--clock-factor",
-              a5 = "5", a6 = "--db", a7 = db.string(), a8 = "--no-predict";
-  char* args[] = {exe.data(), a1.data(), a2.data(), a3.data(), a4.data(),
-                  a5.data(),  a6.data(), a7.data(), a8.data(), nullptr};
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  pid_t pid = 0;
-  ASSERT_EQ(posix_spawn(&pid, exe.c_str(), &actions, nullptr, args, environ), 0);
-  posix_spawn_file_actions_destroy(&actions);
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-  while (slurp(out).find("recording into") == std::string::npos &&
-         std::chrono::steady_clock::now() < deadline) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
+  const pid_t pid =
+      spawn({"run", p.string(), "--simulated", "--clock-factor", "5", "--db", db.string(), "--no-predict"});
+  ASSERT_GT(pid, 0);
+  wait_for_output("recording into", 30.0);
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
   ASSERT_EQ(::kill(pid, SIGKILL), 0);
   int status = 0;
@@ -254,4 +258,130 @@ TEST_F(CliRun, ExitStatusIsNonZeroAndSaysHowManySamplesWereLostWhenTheFileCannot
   EXPECT_NE(err_.find("sample(s) were lost and are not in"), std::string::npos) << err_;
   EXPECT_NE(err_.find("lost to failed database commits"), std::string::npos) << err_;
   EXPECT_NE(err_.find("storage: a database commit failed"), std::string::npos) << err_;
+}
+
+// After the last step, predictions may run for minutes; Ctrl-C must stop them at once, not
+// wait for them (it waited 31.6 s). The recording is whole, so the run stays completed and
+// each step left unpredicted has an event saying why.
+TEST_F(CliRun, SigintAfterTheLastStepCancelsThePredictionsAtOnce) {
+  const auto p = write("p.toml", protocol(0.5));
+  const auto db = dir_ / "lab.db";
+  // 5 million photons a step: minutes of Monte Carlo on two cores.
+  const pid_t pid = spawn(
+      {"run", p.string(), "--simulated", "--clock-factor", "5", "--photons", "5000000", "--db", db.string()});
+  ASSERT_GT(pid, 0);
+  ASSERT_TRUE(wait_for_output("step 3/3 recorded", 120.0)) << slurp(out_path());
+  ASSERT_TRUE(wait_for_output("run 1 (3 steps)", 1.0));
+  const auto t0 = std::chrono::steady_clock::now();
+  ASSERT_EQ(::kill(pid, SIGINT), 0);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const std::string said = slurp(out_path());
+  ASSERT_TRUE(WIFEXITED(status)) << said;
+  EXPECT_EQ(WEXITSTATUS(status), 0) << said;
+  // The promise is 2 s; the bound leaves room for a loaded machine and sanitizer builds (the
+  // figure itself is measured in the closing note, not here).
+  EXPECT_LT(seconds, 10.0) << said;
+  EXPECT_NE(said.find("run 1 completed"), std::string::npos) << said;
+  EXPECT_NE(said.find("step prediction(s) cancelled by the abort"), std::string::npos) << said;
+  const tocd::db::Reader r(db);
+  EXPECT_EQ(r.run(1).status, tocd::db::RunStatus::completed);
+  EXPECT_EQ(r.steps(1).size(), 3u);
+  int cancelled = 0;
+  for (const auto& e : r.events(1))
+    if (e.kind == "prediction" && e.message.find("not predicted: run aborted: SIGINT") != std::string::npos)
+      ++cancelled;
+  EXPECT_EQ(static_cast<std::size_t>(cancelled) + r.predictions(1).size(), 3u);
+  EXPECT_GE(cancelled, 1);
+}
+
+// Two Ctrl-C during a step, with a prediction running: the pin stops where it is, the
+// predictions stop, and the program ends at once (it took 19.9 s). The second signal's event
+// names where the pin was left.
+TEST_F(CliRun, TwoSigintsDuringAStepWithAPredictionRunningEndAtOnce) {
+  const auto p = write("p.toml", protocol(30.0));  // long windows: the signals meet step 2
+  const auto db = dir_ / "lab.db";
+  const pid_t pid = spawn(
+      {"run", p.string(), "--simulated", "--clock-factor", "5", "--photons", "5000000", "--db", db.string()});
+  ASSERT_GT(pid, 0);
+  ASSERT_TRUE(wait_for_output("step 1/3 recorded", 120.0)) << slurp(out_path());
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // step 2 under way, step 1 predicting
+  const auto t0 = std::chrono::steady_clock::now();
+  ASSERT_EQ(::kill(pid, SIGINT), 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_EQ(::kill(pid, SIGINT), 0);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const std::string said = slurp(out_path());
+  ASSERT_TRUE(WIFEXITED(status)) << said;
+  EXPECT_EQ(WEXITSTATUS(status), 0) << said;
+  EXPECT_LT(seconds, 10.0) << said;  // promised 0.5 s after the second; see the note for the figure
+  EXPECT_NE(said.find("run 1 aborted"), std::string::npos) << said;
+  const tocd::db::Reader r(db);
+  EXPECT_EQ(r.run(1).status, tocd::db::RunStatus::aborted);
+  bool left_at = false, not_predicted = false;
+  for (const auto& e : r.events(1)) {
+    left_at = left_at || e.message.find("stopped at once: the pin is left at") != std::string::npos;
+    not_predicted =
+        not_predicted || (e.kind == "prediction" && e.message.find("not predicted") != std::string::npos);
+  }
+  EXPECT_TRUE(left_at);
+  EXPECT_TRUE(not_predicted);
+}
+
+// A file-size limit without the shell's trap: SIGXFSZ used to end the program (exit 153, the
+// run left `running`, no message). Now a write past the limit fails like one on a full disk.
+TEST_F(CliRun, AFileSizeLimitEndsTheRunInterruptedAndResumable) {
+  const auto p = write("p.toml", protocol(60.0));
+  const auto db = dir_ / "lab.db";
+  const int rc = tocdlab_in_shell(
+      "ulimit -f 4096; ",
+      fmt::format("run {} --simulated --clock-factor 5 --no-predict --db {}", p.string(), db.string()));
+  EXPECT_EQ(rc, 1) << out_ << err_;
+  EXPECT_NE(err_.find("storage: a database commit failed"), std::string::npos) << err_;
+  EXPECT_NE(err_.find("Continue it with: tocdlab run --resume 1"), std::string::npos) << err_;
+  const tocd::db::Reader r(db);
+  EXPECT_EQ(r.run(1).status, tocd::db::RunStatus::interrupted);
+  EXPECT_GT(r.sample_count(r.channel(1, "load")->id), 1000);  // what was committed stays
+}
+
+// Photons fewer than the Monte Carlo batches: every prediction would fail; the run is refused
+// before anything is opened, and no database is created.
+TEST_F(CliRun, TooFewPhotonsForThePredictionsAreRefusedBeforeTheRun) {
+  const auto p = write("p.toml", protocol(1.0));
+  const auto db = dir_ / "lab.db";
+  EXPECT_EQ(tocdlab(fmt::format("run {} --simulated --photons 5 --db {}", p.string(), db.string())), 1);
+  EXPECT_NE(err_.find("photons must be at least the 20 Monte Carlo batches"), std::string::npos) << err_;
+  EXPECT_FALSE(fs::exists(db));
+}
+
+// Data that cannot be written is an error, never an exit 0 with an empty file.
+TEST_F(CliRun, OutputOnAFullDiskIsAnErrorAndLeavesNoFile) {
+  const auto p = write("p.toml", protocol(0.5));
+  const auto db = dir_ / "lab.db";
+  ASSERT_EQ(tocdlab(fmt::format("run {} --simulated --clock-factor 5 --no-predict --db {}", p.string(),
+                                db.string())),
+            0)
+      << err_;
+  for (const std::string args :
+       {fmt::format("runs --db {}", db.string()), fmt::format("export --db {} --run 1", db.string()),
+        fmt::format("export --db {} --run 1 --format json", db.string())}) {
+    const int rc = tocdlab_in_shell("", args + " > /dev/full");
+    EXPECT_EQ(rc, 1) << args << ": " << err_;
+    EXPECT_NE(err_.find("writing standard output failed"), std::string::npos) << args << ": " << err_;
+    EXPECT_NE(err_.find("disk full?"), std::string::npos) << err_;
+  }
+  EXPECT_EQ(tocdlab(fmt::format("export --db {} --run 1 -o /dev/full", db.string())), 1);
+  EXPECT_NE(err_.find("cannot write /dev/full (disk full?)"), std::string::npos) << err_;
+  // A file past a size limit: the export fails and leaves neither the file nor its .part.
+  const auto csv = dir_ / "samples.csv";
+  const int rc = tocdlab_in_shell(
+      "ulimit -f 100; ",
+      fmt::format("export --db {} --run 1 --table samples -o {}", db.string(), csv.string()));
+  EXPECT_EQ(rc, 1) << err_;
+  EXPECT_NE(err_.find("disk full?"), std::string::npos) << err_;
+  EXPECT_FALSE(fs::exists(csv));
+  EXPECT_FALSE(fs::exists(csv.string() + ".part"));
 }

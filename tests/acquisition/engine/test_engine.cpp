@@ -440,3 +440,49 @@ TEST_F(EngineTest, AnInstrumentThatKeepsFailingInterruptsTheRun) {
   EXPECT_TRUE(has_event(r, run, "fault", "the pin could not be retracted"));
   EXPECT_GE(r.first_incomplete_step(run), 1);
 }
+
+// After the last step nothing but the predictions keeps the run: an abort then cancels them
+// and the engine ends at once (it waited for every prediction), the run stays completed, and
+// each step left unpredicted has an event saying why.
+TEST_F(EngineTest, AnAbortAfterTheLastStepCancelsThePredictionsAndEndsAtOnce) {
+  auto world = std::make_shared<FakeWorld>(kFactor);
+  auto predictor = std::make_shared<FakePredictor>();
+  predictor->close_gate();  // the simulator is busy until cancelled
+  Recorder obs;
+  tocd::db::Database db(path_);
+  Engine engine(db, make_fake_instruments(world), fast(), predictor, &obs);
+  const auto run = engine.start(parse_protocol(pin_protocol("0.25, 0.5, 0.75"), "engine.toml"));
+  ASSERT_TRUE(eventually([&] {
+    std::lock_guard lock(obs.mu);
+    return !obs.states.empty() && obs.states.back() == EngineState::completed;
+  }));
+  EXPECT_FALSE(engine.wait_for(std::chrono::milliseconds(50)));
+  engine.abort("test abort");
+  EXPECT_TRUE(engine.wait_for(std::chrono::seconds(2)));
+  EXPECT_EQ(engine.wait(), EngineState::completed);
+  const EngineStats s = engine.stats();
+  EXPECT_EQ(s.predictions_asked, 3);
+  EXPECT_EQ(s.predictions_cancelled, 3);
+  EXPECT_EQ(s.predictions_stored, 0);
+  const tocd::db::Reader r(path_);
+  EXPECT_EQ(r.run(run).status, tocd::db::RunStatus::completed);
+  EXPECT_TRUE(has_event(r, run, "prediction", "step 3: not predicted: run aborted: test abort"));
+}
+
+// A run whose predictions failed says so: the engine counts them (the command line's exit
+// status and summary are built on it).
+TEST_F(EngineTest, FailedPredictionsAreCounted) {
+  auto world = std::make_shared<FakeWorld>(kFactor);
+  auto predictor = std::make_shared<FakePredictor>();
+  predictor->fail = true;
+  tocd::db::Database db(path_);
+  Engine engine(db, make_fake_instruments(world), fast(), predictor);
+  const auto run = engine.start(parse_protocol(pin_protocol("0.25, 0.5"), "engine.toml"));
+  EXPECT_EQ(engine.wait(), EngineState::completed);
+  const EngineStats s = engine.stats();
+  EXPECT_EQ(s.predictions_asked, 2);
+  EXPECT_EQ(s.predictions_failed, 2);
+  EXPECT_EQ(s.predictions_stored, 0);
+  EXPECT_TRUE(has_event(tocd::db::Reader(path_), run, "prediction",
+                        "step 2: prediction failed: fake simulator failed"));
+}

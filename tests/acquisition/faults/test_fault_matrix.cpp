@@ -366,6 +366,11 @@ std::vector<Cell> cells() {
                      *r.bad_power = 2;
                    },
                    nullptr, "is negative beyond the sensor's zero noise"});
+    // The meter answers 9.9E37 (SCPI's overflow): the protocol's over-range interlock (on by
+    // default) pauses the run, and the operator resumes it once the light is back in range.
+    out.push_back({"meter over range", ph, false,
+                   [](Rig& r) { r.lab->power_meter()->over_range_readings(3); }, nullptr,
+                   "power meter over range"});
     // The tester answers a byte per 90 ms, each byte inside libmodbus's byte timeout: only the
     // bound on the whole answer (0.5 s in the simulated lab's config) fails the reads, the
     // poller gives up after fault_tolerance_s and the run ends interrupted with the tester

@@ -273,3 +273,13 @@ TEST(AcquisitionProtocol, StepValiditySettings) {
                 .find("[motion] on_move_failure: must be \"pause\" or \"interrupt\", got \"ignore\""),
             std::string::npos);
 }
+
+// A list is capped like a {from, to, count} range: 2,000,000 entries were accepted before.
+TEST(AcquisitionProtocol, AListOfMoreThanTenThousandStepsIsRefusedLikeARange) {
+  std::string many = "[";
+  for (int i = 0; i < 10001; ++i) many += (i ? ", " : "") + std::string("0.25");
+  many += "]";
+  const auto msg = error_of(replace(kGood, "[0.25, 0.5, 1.0]", many));
+  EXPECT_NE(msg.find("displacements_mm: has 10001 entries; at most 10000 are accepted"), std::string::npos)
+      << msg.substr(0, 300);
+}

@@ -2,11 +2,13 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <thread>
 
 #include <fmt/format.h>
 
 #include "tocd/core/clock.hpp"
+#include "tocd/core/error.hpp"
 
 namespace tocd::acquisition::testing {
 
@@ -150,7 +152,9 @@ class FakePowerMeter : public devices::PowerMeter {
     }
     const double T = w_->transmission(w_->position_mm() - w_->contact_mm, p);
     r.power_W = w_->source_W * T * (1.0 + 1e-4 * noise_(rng_));  // 0.01 % read noise
+    // As the SCPI driver reports it: over range, and the power +inf (9.9E37 on the wire).
     r.over_range = w_->power_over_range;
+    if (r.over_range) r.power_W = std::numeric_limits<double>::infinity();
     if (w_->nan_power_readings > 0) {
       --w_->nan_power_readings;
       r.power_W = std::nan("");
@@ -216,7 +220,15 @@ std::future<PredictedStep> FakePredictor::predict(const RecordedStep& step) {
   threads_.emplace_back([this, promise, step] {
     {
       std::unique_lock gate(mu_);
-      cv_.wait(gate, [&] { return gate_open_; });
+      cv_.wait(gate, [&] { return gate_open_ || cancelled_; });
+      if (cancelled_) {
+        promise->set_exception(std::make_exception_ptr(tocd::Cancelled("fake prediction cancelled")));
+        return;
+      }
+    }
+    if (fail) {
+      promise->set_exception(std::make_exception_ptr(tocd::Error("fake simulator failed")));
+      return;
     }
     PredictedStep p;
     p.T = step.measured_T * factor_;
@@ -226,6 +238,14 @@ std::future<PredictedStep> FakePredictor::predict(const RecordedStep& step) {
     promise->set_value(p);
   });
   return future;
+}
+
+void FakePredictor::cancel() noexcept {
+  {
+    std::lock_guard lock(mu_);
+    cancelled_ = true;
+  }
+  cv_.notify_all();
 }
 
 void FakePredictor::close_gate() {

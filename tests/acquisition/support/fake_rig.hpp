@@ -78,15 +78,19 @@ class FakePredictor : public StepPredictor {
   explicit FakePredictor(double factor = 1.02) : factor_(factor) {}
   ~FakePredictor() override;
   std::future<PredictedStep> predict(const RecordedStep& step) override;
+  /// Every prediction waiting at the gate, and every later one, ends in tocd::Cancelled.
+  void cancel() noexcept override;
   void close_gate();
   void open_gate();
   std::atomic<int> calls{0};
+  std::atomic<bool> fail{false};  ///< predictions end in an error (a simulator that failed)
 
  private:
   double factor_;
   std::mutex mu_;
   std::condition_variable cv_;
   bool gate_open_ = true;
+  bool cancelled_ = false;
   std::vector<std::thread> threads_;
 };
 

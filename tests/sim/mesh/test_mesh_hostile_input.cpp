@@ -161,3 +161,16 @@ TEST(MeshHostile, SlabSizesAndCellCountsHaveStatedLimits) {
   EXPECT_TRUE(has(thin, "the limit is 10000000")) << thin;
   EXPECT_EQ(error_of("10x10x2.5", 20), "");
 }
+
+// A repeated index leaves another item unset; it was reported as a "degenerate" tet (the unset
+// one, all four nodes 0). The reader names the repeated index and its line instead.
+TEST(MeshHostile, ARepeatedTetOrNodeIndexIsNamedAsSuch) {
+  const std::string tet = read_error("tet_twice", "5 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n4 1 1 1\n",
+                                     "2 4 1\n0 0 1 2 3 5\n0 1 2 3 4 5\n");
+  EXPECT_TRUE(has(tet, "tet index 0 is given twice")) << tet;
+  EXPECT_TRUE(has(tet, "tet_twice.ele:3")) << tet;
+  EXPECT_FALSE(has(tet, "degenerate")) << tet;
+  const std::string node = read_error("node_twice", "4 3 0 0\n0 0 0 0\n1 1 0 0\n1 0 1 0\n3 0 0 1\n", kEle);
+  EXPECT_TRUE(has(node, "node index 1 is given twice")) << node;
+  EXPECT_TRUE(has(node, "node_twice.node:4")) << node;
+}

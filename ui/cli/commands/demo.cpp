@@ -15,6 +15,7 @@
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
 #include "output_naming.hpp"
+#include "output_paths.hpp"
 #include "progress.hpp"
 #include "run_progress.hpp"
 #include "tocd/acquisition/compare_table.hpp"
@@ -57,6 +58,12 @@ void run_demo(const DemoOptions& o) {
   const acq::Protocol protocol = o.protocol.empty() ? acq::demo_protocol() : acq::load_protocol(o.protocol);
   if (protocol.kind == acq::StepKind::vacuum)
     throw tocd::ConfigError("tocdlab demo runs pin-compression protocols");
+  acq::check_simulated_clock_factor(protocol, o.clock_factor);
+  acq::SimPredictorSettings predict;
+  predict.photons = o.photons;
+  predict.seed = o.seed;
+  predict.mc_threads = o.threads;
+  acq::validate(predict);  // before the sample's preparation: a minute or more
   const std::string csv_path =
       o.csv.empty() ? std::filesystem::path(o.db).replace_extension(".csv").string() : o.csv;
 
@@ -106,10 +113,7 @@ void run_demo(const DemoOptions& o) {
 
   // 3. The model that predicts each step: the published skin at the sample's thickness.
   acq::LabSessionOptions session;
-  session.predict = acq::SimPredictorSettings{};
-  session.predict->photons = o.photons;
-  session.predict->seed = o.seed;
-  session.predict->mc_threads = o.threads;
+  session.predict = predict;
 
   tocd::db::Database db(o.db);
   acq::EngineOptions& eo = session.engine;
@@ -180,10 +184,12 @@ void install_demo(CLI::App& root) {
       "demo", "Run the demo pin-compression protocol on the simulated lab and compare with the simulator");
   auto o = std::make_shared<DemoOptions>();
   cmd->add_option("--db", o->db, "measurement database file (created when absent; runs are appended)")
+      ->check(cli::output_file())
       ->capture_default_str();
   cmd->add_option("-o,--output", o->csv,
-                  "measured vs. predicted table as CSV (default: the database name with .csv)");
-  cmd->add_option("--csv", o->csv, "deprecated: use -o FILE.csv")->group("");
+                  "measured vs. predicted table as CSV (default: the database name with .csv)")
+      ->check(cli::output_file());
+  cmd->add_option("--csv", o->csv, "deprecated: use -o FILE.csv")->check(cli::output_file())->group("");
   cmd->add_option("--photons", o->photons, "Monte Carlo photons per predicted step")
       ->check(cli::whole_in(std::uint64_t{1}, cli::kMaxPhotons))
       ->capture_default_str();

@@ -1,16 +1,19 @@
 // `tocdlab export`: a run as CSV (steps, samples or events) or as one JSON document.
 #include "tocd/db/export.hpp"
 
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <fmt/format.h>
 
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
+#include "output_naming.hpp"
+#include "output_paths.hpp"
+#include "tocd/core/atomic_file.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/db/reader.hpp"
 
@@ -27,12 +30,10 @@ struct ExportOptions {
 void export_run(const ExportOptions& o) {
   const tocd::db::Reader reader(o.db);
   reader.run(o.run);  // unknown run: error before any output file is created
-  std::ofstream file;
-  if (!o.out.empty()) {
-    file.open(o.out);
-    if (!file) throw tocd::ConfigError(fmt::format("cannot write '{}'", o.out));
-  }
-  std::ostream& out = o.out.empty() ? std::cout : file;
+  // A file appears only when complete (a full disk leaves no truncated export behind).
+  std::optional<tocd::AtomicFile> file;
+  if (!o.out.empty()) file.emplace(o.out);
+  std::ostream& out = file ? file->stream() : std::cout;
   if (o.format == "json") {
     tocd::db::JsonExportOptions jo;
     jo.max_points_per_channel = o.max_points;
@@ -42,6 +43,10 @@ void export_run(const ExportOptions& o) {
                        : o.table == "events" ? tocd::db::CsvTable::events
                                              : tocd::db::CsvTable::steps;
     tocd::db::write_csv(reader, o.run, table, out);
+  }
+  if (file) {
+    file->commit();
+    cli::announce_file(o.format == "json" ? "JSON export" : "CSV export", o.out);
   }
 }
 
@@ -61,8 +66,8 @@ void install_export(CLI::App& root) {
   cmd->add_option("--max-points", o->max_points, "JSON: at most this many samples per channel (0 = all)")
       ->check(cli::whole_in(std::uint64_t{0}, std::uint64_t{100000000}))
       ->capture_default_str();
-  cmd->add_option("-o,--output", o->out, "output file (default: standard output)");
-  cmd->add_option("--out", o->out, "deprecated: use -o/--output")->group("");
+  cmd->add_option("-o,--output", o->out, "output file (default: standard output)")->check(cli::output_file());
+  cmd->add_option("--out", o->out, "deprecated: use -o/--output")->check(cli::output_file())->group("");
   cmd->callback([o] { export_run(*o); });
 }
 

@@ -12,6 +12,7 @@
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
 #include "output_naming.hpp"
+#include "output_paths.hpp"
 #include "progress.hpp"
 #include "tocd/sim/fe/solve.hpp"
 #include "vtu_format_option.hpp"
@@ -140,7 +141,8 @@ void install_fe(CLI::App& root) {
       ->check(cli::real_above(0.0, 1000.0))
       ->capture_default_str();
   cmd->add_flag("--json", o->json, "machine-readable output");
-  cmd->add_option("--vtu", o->vtu, "write the deformed mesh (.vtu, one file per step: NAME_k.vtu)");
+  cmd->add_option("--vtu", o->vtu, "write the deformed mesh (.vtu, one file per step: NAME_k.vtu)")
+      ->check(cli::output_file());
   tocd::cli::add_vtu_format_option(cmd, o->vtu_format);
   cmd->callback([o] { run_fe(*o); });
 }

@@ -11,6 +11,7 @@
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
 #include "output_naming.hpp"
+#include "output_paths.hpp"
 #include "progress.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/sim/mc/optics.hpp"
@@ -128,7 +129,8 @@ void install_mc(CLI::App& root) {
                   "refractive index outside the mesh (default: optics file, else 1.0)")
       ->check(cli::real_in(1.0, 5.0));
   cmd->add_flag("--json", o->json, "machine-readable output");
-  cmd->add_option("--vtu", o->vtu, "write per-tet fluence to this .vtu file (ParaView)");
+  cmd->add_option("--vtu", o->vtu, "write per-tet fluence to this .vtu file (ParaView)")
+      ->check(cli::output_file());
   tocd::cli::add_vtu_format_option(cmd, o->vtu_format);
   cmd->callback([o] { run_mc(*o); });
 }

@@ -14,6 +14,7 @@
 
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
+#include "output_paths.hpp"
 #include "tocd/acquisition/compare_table.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/db/reader.hpp"
@@ -131,7 +132,9 @@ plot::FitFigure fit_figure(const PlotOptions& o) {
 }
 
 void add_common(CLI::App* cmd, PlotOptions& o) {
-  cmd->add_option("-o,--output", o.output, "picture to write: FILE.png or FILE.svg")->required();
+  cmd->add_option("-o,--output", o.output, "picture to write: FILE.png or FILE.svg")
+      ->check(cli::output_file())
+      ->required();
   cmd->add_option("--width", o.size.width, "width in pixels")
       ->check(cli::whole_in(std::int64_t{200}, std::int64_t{20000}))
       ->capture_default_str();

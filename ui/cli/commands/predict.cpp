@@ -12,6 +12,7 @@
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
 #include "output_naming.hpp"
+#include "output_paths.hpp"
 #include "predict_series.hpp"
 #include "predict_water.hpp"
 #include "progress.hpp"
@@ -210,7 +211,8 @@ void install_predict(CLI::App& root) {
   cmd->add_option("--config", o->config_path,
                   "reproduce a prediction from its config JSON, its --json output, or a run's stored "
                   "predictions.config_json (T relative to the glass-only baseline)");
-  cmd->add_option("--fluence-dir", r.fluence_dir, "write fluence .vtu and slice CSVs here");
+  cmd->add_option("--fluence-dir", r.fluence_dir, "write fluence .vtu and slice CSVs here")
+      ->check(cli::output_dir());
   tocd::cli::add_vtu_format_option(cmd, r.vtu_format);
   cmd->add_flag("--json", o->json, "machine-readable output with config and artefacts");
   auto* db =
@@ -218,7 +220,8 @@ void install_predict(CLI::App& root) {
   auto* run = cmd->add_option("--run", o->series.run, "run id whose steps to re-run (see tocdlab runs)")
                   ->check(cli::whole_in(std::int64_t{1}, std::numeric_limits<std::int64_t>::max()));
   auto* dir = cmd->add_option("--output-dir", o->series.output_dir,
-                              "write each step's fluence .vtu and the series run.pvd here");
+                              "write each step's fluence .vtu and the series run.pvd here")
+                  ->check(cli::output_dir());
   db->needs(run)->needs(dir)->excludes("--config");
   run->needs(db);
   dir->needs(db);

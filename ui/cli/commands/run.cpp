@@ -14,6 +14,7 @@
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
 #include "output_naming.hpp"
+#include "output_paths.hpp"
 #include "progress.hpp"
 #include "run_progress.hpp"
 #include "tocd/acquisition/compare_table.hpp"
@@ -69,6 +70,16 @@ void run_protocol(const RunOptions& o) {
   }
   std::optional<acq::Protocol> fresh;
   if (!o.resume) fresh = acq::load_protocol(o.protocol);
+  // A run must never record steps it cannot predict: the settings are checked before
+  // anything is opened (a vacuum protocol, which is not predicted, is checked as well).
+  std::optional<acq::SimPredictorSettings> predict;
+  if (!o.no_predict) {
+    predict.emplace();
+    predict->photons = o.photons;
+    predict->seed = o.seed;
+    acq::validate(*predict);
+  }
+  if (o.simulated && fresh) acq::check_simulated_clock_factor(*fresh, o.clock_factor);
 
   // Before any thread starts (simulated lab servers, drivers, engine): every thread then
   // inherits the blocked SIGINT/SIGTERM and only the watcher sees them.
@@ -78,6 +89,7 @@ void run_protocol(const RunOptions& o) {
   const acq::Protocol protocol =
       fresh ? *fresh
             : acq::parse_protocol(db.run(*o.resume).protocol_text, fmt::format("run {} protocol", *o.resume));
+  if (o.simulated && !fresh) acq::check_simulated_clock_factor(protocol, o.clock_factor);
 
   std::unique_ptr<tocd::mocks::SimulatedLab> sim;
   if (o.simulated) {
@@ -102,11 +114,7 @@ void run_protocol(const RunOptions& o) {
   std::string error;
   acq::EngineStats stats;
   {
-    if (!o.no_predict && protocol.kind != acq::StepKind::vacuum) {
-      session.predict = acq::SimPredictorSettings{};
-      session.predict->photons = o.photons;
-      session.predict->seed = o.seed;
-    }
+    if (protocol.kind != acq::StepKind::vacuum) session.predict = predict;
     acq::LabSession lab_session(db, *lab_cfg, session, &progress);
     phases.mark("instruments opened");
     acq::Engine& engine = lab_session.engine();
@@ -128,6 +136,11 @@ void run_protocol(const RunOptions& o) {
                      {"state", acq::to_string(final_state)},
                      {"error", error},
                      {"samples_lost", stats.samples_dropped + stats.writer.failed_samples},
+                     {"predictions",
+                      {{"asked", stats.predictions_asked},
+                       {"stored", stats.predictions_stored},
+                       {"failed", stats.predictions_failed},
+                       {"cancelled", stats.predictions_cancelled}}},
                      {"files", {{"database", o.db}}},
                      {"compare", acq::to_json(table)}});
   } else {
@@ -159,6 +172,18 @@ void run_protocol(const RunOptions& o) {
                                     again));
   }
   if (lost > 0) throw tocd::Error(fmt::format("run {}: {}", run_id, lost_text));
+  // The recording is whole; the predictions are what the run promised beside it.
+  if (stats.predictions_cancelled > 0) {
+    std::cerr << fmt::format(
+        "run {}: {} of {} step prediction(s) cancelled by the abort (tocdlab compare shows which)\n", run_id,
+        stats.predictions_cancelled, stats.predictions_asked);
+  }
+  if (stats.predictions_failed > 0) {
+    throw tocd::Error(fmt::format(
+        "run {}: the recording is complete, but {} of {} step prediction(s) failed; the events say why "
+        "(tocdlab export --db {} --run {} --table events)",
+        run_id, stats.predictions_failed, stats.predictions_asked, o.db, run_id));
+  }
 }
 
 void install_run(CLI::App& root) {
@@ -168,7 +193,9 @@ void install_run(CLI::App& root) {
   cmd->add_option("protocol", o->protocol, "experiment protocol TOML (not needed with --resume)");
   cmd->add_option("--lab", o->lab, "lab config TOML: which instruments, where");
   cmd->add_flag("--simulated", o->simulated, "use the built-in simulated lab instead of --lab");
-  cmd->add_option("--db", o->db, "measurement database file (created when absent)")->required();
+  cmd->add_option("--db", o->db, "measurement database file (created when absent)")
+      ->check(cli::output_file())
+      ->required();
   cmd->add_option("--resume", o->resume, "continue the interrupted or aborted run with this id")
       ->check(cli::whole_in(std::int64_t{1}, std::numeric_limits<std::int64_t>::max()));
   cmd->add_option("--clock-factor", o->clock_factor, "simulated seconds per real second (--simulated only)")

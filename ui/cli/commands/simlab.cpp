@@ -16,6 +16,7 @@
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
 #include "output_naming.hpp"
+#include "output_paths.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/devices/lab.hpp"
 #include "tocd/mocks/simulated_lab.hpp"
@@ -110,8 +111,8 @@ void install_simlab(CLI::App& root) {
   auto* cmd = root.add_subcommand("simlab", "Serve the simulated tester, power meter and vacuum controller");
   auto o = std::make_shared<SimlabOptions>();
   cmd->add_option("--config", o->config, "lab TOML whose tester/power-meter ports to serve on");
-  cmd->add_option("--write-config", o->write_config,
-                  "write a lab TOML pointing at the simulated instruments");
+  cmd->add_option("--write-config", o->write_config, "write a lab TOML pointing at the simulated instruments")
+      ->check(tocd::cli::output_file());
   cmd->add_option("--clock-factor", o->clock_factor, "simulated seconds per real second")
       ->check(cli::real_above(0.0, 1e6))
       ->capture_default_str();

@@ -16,6 +16,7 @@
 #include "command_registry.hpp"
 #include "numeric_options.hpp"
 #include "output_naming.hpp"
+#include "output_paths.hpp"
 #include "progress.hpp"
 #include "tocd/core/atomic_file.hpp"
 #include "tocd/core/error.hpp"
@@ -108,11 +109,15 @@ void add_common(CLI::App* cmd, StudyOptions& o) {
   cmd->add_flag("--json", o.json,
                 "print every number of the table (and each run's config) as JSON on stdout");
   cmd->add_option("-o,--output", o.output_path,
-                  "also write the table to FILE: JSON if it ends in .json, else CSV");
-  cmd->add_option("--csv", o.output_path, "deprecated: use -o FILE.csv")->group("");
+                  "also write the table to FILE: JSON if it ends in .json, else CSV")
+      ->check(cli::output_file());
+  cmd->add_option("--csv", o.output_path, "deprecated: use -o FILE.csv")
+      ->check(cli::output_file())
+      ->group("");
   cmd->add_option("--fluence-dir", o.settings.fluence_dir,
                   "write per-tet fluence (.vtu) and horizontal/vertical slices (.csv) per simulation, and "
-                  "their ParaView series fluence.pvd, here");
+                  "their ParaView series fluence.pvd, here")
+      ->check(cli::output_dir());
   tocd::cli::add_vtu_format_option(cmd, o.settings.vtu_format);
 }
 

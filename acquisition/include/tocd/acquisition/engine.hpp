@@ -141,6 +141,9 @@ struct EngineStats {
   std::uint64_t samples_dropped = 0;   ///< refused by the writer (queue full)
   std::uint64_t poll_overruns = 0;     ///< times a poller fell far behind (stalled driver) and skipped ahead
   db::WriterStats writer;
+  /// Predictions of the recorded steps: asked for, stored, failed, and cancelled by an abort
+  /// (each one that did not land has a "prediction" event saying why).
+  int predictions_asked = 0, predictions_stored = 0, predictions_failed = 0, predictions_cancelled = 0;
 };
 
 /// Runs one experiment protocol against the instruments and records it into the database.
@@ -187,7 +190,9 @@ class Engine {
   void pause();
   /// Continues a paused run (operator pause, seal loss, over-range).
   void resume();
-  /// Stops motion, retracts the pin, keeps every sample; the run ends `aborted`.
+  /// Stops motion, retracts the pin, keeps every sample; the run ends `aborted`. Predictions
+  /// not yet stored are cancelled (each gets a "prediction" event); called after the last step,
+  /// while predictions still run, it only cancels them and the run stays `completed`.
   void abort(const std::string& reason = "operator abort");
   /// Like abort(), but at once: the pin is stopped where it is and not retracted (a second
   /// Ctrl-C, or an abort whose retraction must not be waited for). Also cuts short a

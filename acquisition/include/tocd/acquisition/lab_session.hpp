@@ -26,6 +26,12 @@ struct LabSessionOptions {
   std::shared_ptr<StepPredictor> predictor;
 };
 
+/// The simulator's predictor of a recording's steps, as every front end makes it: its threads
+/// run in the background (SCHED_IDLE), so that predictions never cost the pollers a reading,
+/// and its Monte Carlo leaves one core to them and the writer unless `settings` chose a thread
+/// count. Throws ConfigError for settings no step could be predicted with.
+std::shared_ptr<StepPredictor> make_recording_predictor(SimPredictorSettings settings);
+
 /// One run of the lab, wired the same way for `tocdlab run`, `tocdlab demo` and the GUI: the
 /// instruments (opened from a lab config, or handed over already open), the measurement
 /// database the run records into, the predictor of each recorded step, and the engine that
@@ -55,6 +61,20 @@ class LabSession {
 
 /// The instruments of an opened lab, as the engine takes them.
 InstrumentSet to_instrument_set(devices::LabInstruments lab);
+
+/// Most readings per real second the simulated lab's instruments are asked for. Measured on
+/// an idle 2-core machine, the tester's Modbus twin served every reading up to about 12,000
+/// per second (the demo protocol's 1000 Hz at --clock-factor 12) and 65 % of them at 20,000;
+/// a third of that leaves room for a loaded machine and for sanitizer builds.
+inline constexpr double kMaxSimulatedReadingsPerSecond = 5000.0;
+
+/// The highest clock factor at which the simulated lab keeps `protocol`'s poll rates.
+double max_simulated_clock_factor(const Protocol& protocol);
+
+/// Throws ConfigError when `protocol` at `clock_factor` asks the simulated lab for more
+/// readings per real second than kMaxSimulatedReadingsPerSecond, naming the highest clock
+/// factor that works: a run that would lose recording windows is refused before it starts.
+void check_simulated_clock_factor(const Protocol& protocol, double clock_factor);
 
 /// The demo protocol (protocols/demo.toml, built in): seven pin-compression steps from contact
 /// to 1.5 mm into a 2.5 mm sample. `tocdlab demo` and the GUI's demo run it.

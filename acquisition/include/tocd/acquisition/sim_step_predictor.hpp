@@ -1,5 +1,6 @@
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <future>
 #include <memory>
@@ -23,6 +24,11 @@ struct SimPredictorSettings {
   sim::material::OgdenParameters material = sim::study::published_skin_material();
 };
 
+/// Throws tocd::ConfigError naming the setting when no step could be predicted with these
+/// settings (too few photons for the batches, an unknown mesh preset or optics model): called
+/// before a run starts, so that a run never records steps it cannot predict.
+void validate(const SimPredictorSettings& settings);
+
 /// Predicts a recorded step with the FE + mesh + Monte Carlo chain of sim::study.
 ///
 /// The measured transmission of a step is power / glass-only baseline power, so the predicted
@@ -33,6 +39,7 @@ class SimStepPredictor : public StepPredictor {
  public:
   SimStepPredictor(std::shared_ptr<sim::study::Predictor> predictor, SimPredictorSettings settings);
   std::future<PredictedStep> predict(const RecordedStep& step) override;
+  void cancel() noexcept override;
 
   /// The request the predictor runs for a step (exposed for tests and the stored config).
   sim::study::PredictionRequest request_for(double displacement_mm, double thickness_mm) const;
@@ -42,6 +49,7 @@ class SimStepPredictor : public StepPredictor {
 
   std::shared_ptr<sim::study::Predictor> predictor_;
   SimPredictorSettings settings_;
+  std::shared_ptr<std::atomic<bool>> cancel_ = std::make_shared<std::atomic<bool>>(false);
   std::mutex mutex_;
   std::optional<std::shared_future<sim::study::Prediction>> baseline_;
 };

@@ -33,6 +33,10 @@ class StepPredictor {
  public:
   virtual ~StepPredictor() = default;
   virtual std::future<PredictedStep> predict(const RecordedStep& step) = 0;
+  /// Stops every prediction asked for so far, and every later one, as soon as it can (an
+  /// operator's abort, a signal): their futures then hold a tocd::Cancelled. Called from any
+  /// thread. A predictor that cannot stop early ignores it (its futures still land).
+  virtual void cancel() noexcept {}
 };
 
 }  // namespace tocd::acquisition

@@ -18,4 +18,11 @@ class ConfigError : public Error {
   using Error::Error;
 };
 
+/// Work stopped on request (an operator's abort, a signal) before it finished: not a fault of
+/// the input. Whoever asked for the stop knows why; the message says where the work stood.
+class Cancelled : public Error {
+ public:
+  using Error::Error;
+};
+
 }  // namespace tocd

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -100,9 +101,28 @@ struct CompositeMesh {
 /// non-positive / non-finite explicit value.
 ResolvedSize resolve_size(const MeshSize& size);
 
+/// Most tets a composite mesh may have: 10 times the paper preset's ~0.5 M. Beyond it TetGen
+/// needs many GB and hours (a max edge of 1e-6 mm was still meshing after 100 s at 620 MB and
+/// growing), which no requested edge length is worth.
+inline constexpr double kMaxCompositeTets = 5.0e6;
+
+/// A lower estimate of the tets a spec's mesh will have, from its sizes alone (no meshing):
+/// the box's volume over the volume bound, and the surface facets of the revolved outlines
+/// (each the base of at least two tets). Cheap enough to check before any work.
+double estimated_tets(const CompositeSpec& spec);
+
+/// Throws GeometryError when estimated_tets(spec) is above kMaxCompositeTets, naming the
+/// sizes to change.
+void check_mesh_size(const CompositeSpec& spec);
+
 /// Builds the composite piecewise-linear complex (slide, skin with its revolved deformed top,
 /// compressed zones, pin at its displaced position, air up to the pin's top face) and meshes
-/// it with TetGen. Throws GeometryError naming the surface at fault.
-CompositeMesh build_composite(const CompositeSpec& spec);
+/// it with TetGen. Throws GeometryError naming the surface at fault, or the sizes when the
+/// mesh would be too large (check_mesh_size, before anything is built).
+///
+/// With `cancel`, the build stops with tocd::Cancelled soon after the flag is set: TetGen
+/// itself cannot be interrupted, so it then runs on a thread of its own, on its own copy of
+/// the complex, which is left to finish (or to end with the process) when cancelled.
+CompositeMesh build_composite(const CompositeSpec& spec, const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace tocd::sim::geometry

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -65,6 +66,10 @@ struct PredictionRequest {
   /// Called now and then during the Monte Carlo with (photons done, photons asked), as
   /// mc::RunSettings::progress; FE and meshing come before its first call. Not part of the config.
   std::function<void(std::uint64_t, std::uint64_t)> mc_progress;
+  /// When set, the prediction checks it between FE increments, before and after meshing and
+  /// between Monte Carlo photons, and once it reads true throws tocd::Cancelled (a mesh that
+  /// TetGen has begun is finished first). Not part of the config.
+  std::shared_ptr<const std::atomic<bool>> cancel;
 };
 
 struct Prediction {
@@ -100,6 +105,13 @@ struct ConfigDocument {
 /// Reads any of those forms. Throws tocd::ConfigError naming what is wrong.
 ConfigDocument config_document_from_json(const nlohmann::json& document);
 
+/// The optics every region of a request's mesh gets: the threshold or graded model's, with
+/// the slide's refractive index when slide_n is set.
+mc::Optics optics_of(const PredictionRequest& request);
+/// The same as stored in a prediction's config ("optics": region id -> optics). It is a
+/// record, not an input: request_from_config refuses a config whose "optics" differ from it.
+nlohmann::json optics_record(const PredictionRequest& request);
+
 /// Checks ranges (displacement 0 <= d < thickness, photons > 0, known optics model and mesh
 /// preset ...). Throws tocd::ConfigError naming the field.
 void validate(const PredictionRequest& request);
@@ -117,7 +129,10 @@ void validate(const PredictionRequest& request);
 /// 0 writes fluence files.
 class Predictor {
  public:
-  explicit Predictor(int worker_threads = 1, parallel::Team* team = nullptr);
+  /// `background`: the worker threads (and the Monte Carlo threads they start) run at the
+  /// lowest scheduling priority (tocd::run_this_thread_in_background), for predictions made
+  /// beside a recording: they must never cost the instruments' pollers a reading.
+  explicit Predictor(int worker_threads = 1, parallel::Team* team = nullptr, bool background = false);
   ~Predictor();
   Predictor(const Predictor&) = delete;
   Predictor& operator=(const Predictor&) = delete;
@@ -149,7 +164,7 @@ class Predictor {
   std::deque<std::packaged_task<Prediction()>> queue_;
   bool stopping_ = false;
   std::vector<std::thread> workers_;
-  void work();
+  void work(bool background);
 };
 
 }  // namespace tocd::sim::study
