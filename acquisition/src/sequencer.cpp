@@ -274,6 +274,13 @@ void Engine::Impl::run_sequence() {
       std::tie(final_state, why) = control.stop_reason();
       break;
     }
+  } catch (const db::DatabaseError& e) {
+    // The storage failed under the sequencer (a step row that could not be written: a full
+    // disk, a file-size limit): as for a failed sample commit, the run ends interrupted and
+    // resumable, and what was committed stays.
+    final_state = EngineState::interrupted;
+    why = fmt::format("storage: {}", e.what());
+    logger("acquisition")->error("run {}: {}", run_id, why);
   } catch (const std::exception& e) {
     final_state = EngineState::failed;
     why = e.what();

@@ -53,6 +53,8 @@ std::string usage_message(const CLI::App& app, const CLI::ParseError& e) {
 /// Every byte of data must reach standard output: a full disk (or /dev/full) under `> FILE`
 /// is an error, never an exit 0 with an empty file. Empty when all was written, else why not.
 std::string stdout_problem() {
+  // MPI ranks other than 0 discard their standard output (main): nothing to check there.
+  if (std::cout.rdbuf() == nullptr) return {};
   std::cout.flush();
   errno = 0;
   const bool flushed = std::fflush(stdout) == 0;

@@ -385,3 +385,70 @@ TEST_F(CliRun, OutputOnAFullDiskIsAnErrorAndLeavesNoFile) {
   EXPECT_FALSE(fs::exists(csv));
   EXPECT_FALSE(fs::exists(csv.string() + ".part"));
 }
+
+// A damaged database is refused before anything moves, and left as it was: `run` moved the
+// pin and then failed "database disk image is malformed", or recorded into the damaged file.
+TEST_F(CliRun, ADamagedDatabaseIsRefusedBeforeAnythingMovesAndLeftAlone) {
+  const auto p = write("p.toml", protocol(0.5));
+  const auto db = dir_ / "lab.db";
+  ASSERT_EQ(tocdlab(fmt::format("run {} --simulated --clock-factor 5 --no-predict --db {}", p.string(),
+                                db.string())),
+            0)
+      << err_;
+  ASSERT_GT(fs::file_size(db), 16u * 4096u);
+  {
+    // Random bytes over a page in the middle of the file (not the header, which is checked
+    // apart): the samples' b-tree is damaged.
+    std::fstream f(db, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(static_cast<std::streamoff>(fs::file_size(db) / 2 / 4096 * 4096 + 100));
+    std::uint32_t x = 12345;
+    for (int i = 0; i < 2000; ++i) {
+      x = x * 1664525u + 1013904223u;
+      f.put(static_cast<char>(x >> 24));
+    }
+  }
+  const std::string before = slurp(db);
+  EXPECT_EQ(tocdlab(fmt::format("run {} --simulated --clock-factor 5 --no-predict --db {}", p.string(),
+                                db.string())),
+            1);
+  EXPECT_NE(err_.find("is damaged (SQLite quick_check"), std::string::npos) << err_;
+  EXPECT_NE(err_.find("nothing was written to it"), std::string::npos) << err_;
+  EXPECT_EQ(err_.find("recording into"), std::string::npos) << err_;  // no run was started
+  EXPECT_EQ(slurp(db), before);
+}
+
+// A protocol's name is stored as written and may hold anything; the table `run` prints and
+// `compare` show it without terminal controls (ESC) or bidirectional overrides (U+202E).
+TEST_F(CliRun, ControlCharactersInAStoredNameNeverReachTheTerminal) {
+  std::string text = protocol(0.5);
+  text.replace(text.find("name = \"cli test\""), 17, R"(name = "red \u001B[31m then \u202Eevil")");
+  const auto p = write("p.toml", text);
+  const auto db = dir_ / "lab.db";
+  ASSERT_EQ(tocdlab(fmt::format("run {} --simulated --clock-factor 5 --no-predict --db {}", p.string(),
+                                db.string())),
+            0)
+      << err_;
+  const auto clean = [](const std::string& s) {
+    return s.find('\x1b') == std::string::npos && s.find("\xE2\x80\xAE") == std::string::npos;
+  };
+  EXPECT_TRUE(clean(out_)) << out_;
+  EXPECT_NE(out_.find("red \xEF\xBF\xBD[31m then \xEF\xBF\xBD"
+                      "evil"),
+            std::string::npos)
+      << out_;
+  ASSERT_EQ(tocdlab(fmt::format("compare --db {} --run 1", db.string())), 0) << err_;
+  EXPECT_TRUE(clean(out_)) << out_;
+  ASSERT_EQ(tocdlab(fmt::format("runs --db {}", db.string())), 0) << err_;
+  EXPECT_TRUE(clean(out_)) << out_;
+  ASSERT_EQ(tocdlab(fmt::format("runs --db {} --json", db.string())), 0) << err_;
+  EXPECT_TRUE(clean(out_)) << out_;
+  const auto listing = nlohmann::json::parse(out_);
+  ASSERT_EQ(listing["runs"].size(), 1u);
+  EXPECT_EQ(listing["runs"][0]["run_id"], 1);
+  EXPECT_EQ(listing["runs"][0]["status"], "completed");
+  EXPECT_EQ(listing["runs"][0]["steps"], 3);
+  // The database keeps the name as written.
+  EXPECT_EQ(tocd::db::Reader(db).run(1).name,
+            "red \x1b[31m then \xE2\x80\xAE"
+            "evil");
+}

@@ -102,6 +102,12 @@ TEST(Demo, EveryStepMeasuredAndPredictedCsvMatchesDatabaseAndRunCanBeFitted) {
   EXPECT_NE(g_out.find("R^2"), std::string::npos) << g_out;
   EXPECT_NE(tocdlab(fmt::format("fit --db {} --run 99", db)), 0);
   EXPECT_NE(g_out.find("99"), std::string::npos) << g_out;
+  // All defaults of the FE fit (three Ogden terms, the held loads): six held points cannot fit
+  // six parameters, and the error names the options that can (it said "least squares: 6 data
+  // points for 6 parameters").
+  EXPECT_EQ(tocdlab(fmt::format("fit --method fe --db {} --run 1", db)), 1) << g_out;
+  EXPECT_NE(g_out.find("has 6 free parameters and the data give 6 points"), std::string::npos) << g_out;
+  EXPECT_NE(g_out.find("use --model scaled"), std::string::npos) << g_out;
 
   // Issue acceptance: the sample's law identified through the FE from the held step loads
   // matches every measured load within 5 %, where the default law does not. The simulated

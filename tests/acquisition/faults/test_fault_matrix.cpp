@@ -3,16 +3,25 @@
 // ends interrupted with an event naming the fault; then it is resumed to completion. Whatever
 // happened, no step is completed at a wrong position or from a window during which an
 // instrument fault was recorded. docs/acquisition.md shows the matrix.
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <filesystem>
+#include <fstream>
 #include <functional>
+#include <optional>
 #include <thread>
+#include <vector>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sqlite3.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "tocd/acquisition/engine.hpp"
 #include "tocd/db/database.hpp"
@@ -150,6 +159,25 @@ struct Rig {
 
   /// Between the tester driver and its twin when the cell slows the tester's answers.
   std::unique_ptr<tocd::acquisition::testing::TrickleProxy> tester_proxy;
+  /// Processes that only burn CPU at normal priority (a busy machine), killed with the rig.
+  std::vector<pid_t> busy;
+
+  ~Rig() {
+    for (const pid_t p : busy) {
+      ::kill(p, SIGKILL);
+      ::waitpid(p, nullptr, 0);
+    }
+  }
+  void start_busy_processes(int n) {
+    for (int i = 0; i < n; ++i) {
+      const pid_t p = ::fork();
+      if (p == 0) {
+        volatile unsigned long spin = 0;
+        for (;;) spin = spin + 1;
+      }
+      busy.push_back(p);
+    }
+  }
 
   Rig(bool vacuum, bool tester_via_proxy) {
     tocd::mocks::SimulatedLabOptions so;
@@ -185,6 +213,8 @@ struct Cell {
   bool storage = false;              ///< storage full: the writer may grow the file by a few pages only
   bool armed_before_move = false;    ///< injected while step 1 records, so it meets step 2's move
   bool tester_via_proxy = false;     ///< the tester's answers pass a TrickleProxy the cell can slow
+  bool file_size_limit = false;      ///< the OS refuses to grow the database files (ulimit -f)
+  bool lab_vacuum = false;           ///< the lab has a vacuum controller though the protocol is a pin one
 };
 
 // Names the cell in gtest's messages instead of dumping its bytes.
@@ -214,6 +244,35 @@ class FaultMatrix : public ::testing::TestWithParam<Cell> {
   static inline int counter_ = 0;
 };
 
+/// Sets RLIMIT_FSIZE to a little above the largest of the database's files (WAL included)
+/// for as long as it lives, with SIGXFSZ ignored as tocdlab ignores it; restores both.
+class FileSizeLimit {
+ public:
+  explicit FileSizeLimit(const fs::path& db) {
+    std::uintmax_t largest = 0;
+    for (const char* suffix : {"", "-wal", "-shm"}) {
+      std::error_code ec;
+      const auto n = fs::file_size(db.string() + suffix, ec);
+      if (!ec) largest = std::max(largest, n);
+    }
+    ::getrlimit(RLIMIT_FSIZE, &before_);
+    old_ = std::signal(SIGXFSZ, SIG_IGN);
+    rlimit r = before_;
+    r.rlim_cur = static_cast<rlim_t>(largest + 8 * 1024);
+    ::setrlimit(RLIMIT_FSIZE, &r);
+  }
+  ~FileSizeLimit() {
+    ::setrlimit(RLIMIT_FSIZE, &before_);
+    std::signal(SIGXFSZ, old_);
+  }
+  FileSizeLimit(const FileSizeLimit&) = delete;
+  FileSizeLimit& operator=(const FileSizeLimit&) = delete;
+
+ private:
+  rlimit before_{};
+  void (*old_)(int) = nullptr;
+};
+
 /// Pages the database holds now (its logical size, WAL included).
 std::uint64_t page_count(const fs::path& path) {
   sqlite3* c = nullptr;
@@ -238,7 +297,7 @@ std::string all_events(const tocd::db::Reader& r, std::int64_t run) {
 TEST_P(FaultMatrix, NoStepIsCompletedAtAWrongPositionOrFromAFaultyWindow) {
   const Cell& cell = GetParam();
   SCOPED_TRACE(fmt::format("{} during {}", cell.fault, name(cell.phase)));
-  Rig rig(cell.vacuum, cell.tester_via_proxy);
+  Rig rig(cell.vacuum || cell.lab_vacuum, cell.tester_via_proxy);
   const fs::path path = dir_ / "runs.db";
   tocd::db::Database db(path);
   const Protocol protocol = parse_protocol(cell.vacuum ? vacuum_protocol() : pin_protocol(), "matrix.toml");
@@ -263,6 +322,10 @@ TEST_P(FaultMatrix, NoStepIsCompletedAtAWrongPositionOrFromAFaultyWindow) {
           },
           60.0));
     }
+    // A file-size limit (ulimit -f) a little above what the files hold now: the writes beyond
+    // it fail with EFBIG (SIGXFSZ ignored, as tocdlab does) as on a full disk.
+    std::optional<FileSizeLimit> limit;
+    if (cell.file_size_limit) limit.emplace(path);
     cell.inject(rig);
     // It recovers (and re-records), pauses, or ends interrupted. A pause is resumed (after the
     // operator's repair) as often as it comes, within bounds: a fault that outlasts a few
@@ -278,6 +341,10 @@ TEST_P(FaultMatrix, NoStepIsCompletedAtAWrongPositionOrFromAFaultyWindow) {
       ASSERT_TRUE(eventually([&] { return engine.state() != EngineState::paused; }, 10.0));
     }
     first_end = engine.wait();
+    if (cell.file_size_limit) {
+      EXPECT_NE(first_end, EngineState::completed) << "the limit was never reached";
+      EXPECT_NE(engine.error().find("storage"), std::string::npos) << engine.error();
+    }
   }
   if (!cell.event_text.empty()) {
     const tocd::db::Reader r(path);
@@ -322,6 +389,8 @@ TEST_P(FaultMatrix, NoStepIsCompletedAtAWrongPositionOrFromAFaultyWindow) {
     }
     // ...from a window during which no instrument fault was recorded.
     for (const auto& e : events) {
+      // An instrument the protocol does not use voids no window (its faults say so).
+      if (e.message.find("not used by this protocol") != std::string::npos) continue;
       if (e.kind == "fault" && e.t_ns >= s.recorded_from_t_ns && e.t_ns <= s.recorded_to_t_ns) {
         ADD_FAILURE() << "step " << s.index << " completed from a window with the fault: " << e.message;
       }
@@ -387,6 +456,28 @@ std::vector<Cell> cells() {
                    [](Rig& r) { r.lab->inject_seal_loss(false); },
                    ph == Phase::approach ? "vacuum did not reach 60 kPa" : "vacuum seal loss"});
   }
+  // The OS refuses to grow the files (ulimit -f) from the start of step 2's approach: the
+  // writes fail like on a full disk, the run ends interrupted, what was committed stays.
+  // No event can say so (the file cannot take one): the engine's error does.
+  Cell fsize{"file size limit", Phase::approach, false, [](Rig&) {}, nullptr, ""};
+  fsize.file_size_limit = true;
+  out.push_back(fsize);
+  // A busy machine: two processes at normal priority burn both cores from step 2's approach
+  // on; the pollers keep their rates, and no window is voided for missing readings.
+  out.push_back(
+      {"two busy processes", Phase::approach, false, [](Rig& r) { r.start_busy_processes(2); }, nullptr, ""});
+  // The vacuum controller of the lab stops answering during a pin run, which does not use it:
+  // events only, no window voided, no trip.
+  Cell unused{"unused vacuum not answering",
+              Phase::record,
+              false,
+              [](Rig& r) {
+                r.lab->inject_vacuum_fault({ModbusFaultKind::no_reply, 1000000});
+              },
+              nullptr,
+              "not used by this protocol"};
+  unused.lab_vacuum = true;
+  out.push_back(unused);
   // The file fills whenever it fills (a few pages after the start), in whatever phase.
   Cell storage{"storage full", Phase::approach, false,
                [](Rig&) {},    nullptr,         "storage: a database commit failed"};
@@ -403,3 +494,37 @@ INSTANTIATE_TEST_SUITE_P(Cells, FaultMatrix, ::testing::ValuesIn(cells()), [](co
     if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
   return n;
 });
+
+// A damaged file (random bytes over a page) is refused when the engine's database is opened,
+// before any instrument is opened or moved, and nothing is written into it.
+TEST(FaultMatrixStorage, ADamagedDatabaseIsRefusedBeforeAnyInstrumentIsOpened) {
+  const fs::path dir = fs::temp_directory_path() / fmt::format("tocd_faults_damaged_{}", ::getpid());
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path path = dir / "runs.db";
+  {
+    tocd::db::Database db(path);
+    const auto run = db.create_run({}).id;
+    for (int i = 0; i < 3000; ++i)
+      db.add_event({0, run, i, "note", fmt::format("event {} of a long run", i), -1, ""});
+  }
+  {
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(static_cast<std::streamoff>(fs::file_size(path) / 2 / 4096 * 4096 + 100));
+    std::uint32_t x = 7;
+    for (int i = 0; i < 2000; ++i) {
+      x = x * 1664525u + 1013904223u;
+      f.put(static_cast<char>(x >> 24));
+    }
+  }
+  const auto size = fs::file_size(path);
+  try {
+    tocd::db::Database db(path);
+    ADD_FAILURE() << "a damaged database was opened for writing";
+  } catch (const tocd::db::DatabaseError& e) {
+    EXPECT_NE(std::string(e.what()).find("is damaged (SQLite quick_check"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(fs::file_size(path), size);
+  EXPECT_FALSE(fs::exists(path.string() + "-wal") && fs::file_size(path.string() + "-wal") > 0);
+  fs::remove_all(dir);
+}

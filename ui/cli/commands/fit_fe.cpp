@@ -107,6 +107,23 @@ void run_fit_fe(const FitFeOptions& o) {
   fe::InverseFitOptions fo;
   fo.model = fe::parse_inverse_model(o.model);
   fo.fit_D = o.fit_D;
+  // A least-squares fit needs more data points than free parameters; say which option
+  // changes that instead of the solver's "6 data points for 6 parameters".
+  std::size_t points = 0;
+  for (const auto& p : pins) points += p.load_N.size();
+  for (const auto& c : closed) points += c.x.size();
+  const int terms = fo.model == fe::InverseModel::ogden1   ? 1
+                    : fo.model == fe::InverseModel::ogden2 ? 2
+                    : fo.model == fe::InverseModel::ogden3 ? 3
+                                                           : 0;
+  const std::size_t parameters = terms == 0 ? 1 : static_cast<std::size_t>(2 * terms + (o.fit_D ? 1 : 0));
+  if (points <= parameters) {
+    throw tocd::ConfigError(fmt::format(
+        "--model {} has {} free parameters and the data give {} points; a fit needs more points than "
+        "parameters: use --model scaled (one stiffness factor on the published law's shape){}",
+        o.model, parameters, points,
+        o.db.empty() ? std::string() : ", or --points loading (every reading of the loading curve)"));
+  }
   fo.poisson_ratio = o.poisson;
   fo.confidence = o.confidence;
   fo.progress = [](const std::string& line) { std::cerr << "fit: " << line << '\n' << std::flush; };

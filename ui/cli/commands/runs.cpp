@@ -2,19 +2,52 @@
 #include <iostream>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
+#include "output_naming.hpp"
 #include "tocd/core/clock.hpp"
 #include "tocd/core/printable.hpp"
 #include "tocd/db/reader.hpp"
 
 namespace {
 
-void list_runs(const std::string& path) {
+struct RunsOptions {
+  std::string db;
+  bool json = false;
+};
+
+/// The listing as one JSON document: every run with its status as shown (a run stored as
+/// running that no process records is `interrupted`), times as ISO-8601 UTC text.
+void print_runs_json(const std::string& path, const std::vector<tocd::db::RunSummary>& runs) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& s : runs) {
+    list.push_back({{"run_id", s.run.id},
+                    {"name", tocd::printable_text(s.run.name)},
+                    {"status", tocd::db::to_string(tocd::db::shown_status(s))},
+                    {"stored_status", tocd::db::to_string(s.run.status)},
+                    {"recording_now", s.live},
+                    {"started_utc", tocd::format_utc(s.run.started_utc_ns)},
+                    {"ended_utc", s.run.ended_utc_ns ? nlohmann::json(tocd::format_utc(*s.run.ended_utc_ns))
+                                                     : nlohmann::json(nullptr)},
+                    {"steps", s.steps},
+                    {"predictions", s.predictions},
+                    {"events", s.events}});
+  }
+  tocd::cli::print_json({{"database", path}, {"runs", list}});
+}
+
+void list_runs(const RunsOptions& o) {
+  const std::string& path = o.db;
   const tocd::db::Reader reader(path);
   const auto runs = reader.runs();
+  if (o.json) {
+    print_runs_json(path, runs);
+    return;
+  }
   if (runs.empty()) {
     std::cout << "no runs in " << path << '\n';
     return;
@@ -38,9 +71,10 @@ void list_runs(const std::string& path) {
 
 void install_runs(CLI::App& root) {
   auto* cmd = root.add_subcommand("runs", "List the runs of a measurement database");
-  auto path = std::make_shared<std::string>();
-  cmd->add_option("--db", *path, "measurement database file")->required();
-  cmd->callback([path] { list_runs(*path); });
+  auto o = std::make_shared<RunsOptions>();
+  cmd->add_option("--db", o->db, "measurement database file")->required();
+  cmd->add_flag("--json", o->json, "print the runs as one JSON document");
+  cmd->callback([o] { list_runs(*o); });
 }
 
 }  // namespace
