@@ -29,17 +29,30 @@ SimStepPredictor::SimStepPredictor(std::shared_ptr<sim::study::Predictor> predic
   validate(settings_);
 }
 
-void validate(const SimPredictorSettings& settings) {
-  // The glass-only baseline every step is predicted against: its request carries every
-  // setting, and needs no sample geometry.
+namespace {
+
+/// The request `settings` make for a step of this geometry.
+sim::study::PredictionRequest request_of(const SimPredictorSettings& settings, double displacement_mm,
+                                         double thickness_mm) {
   sim::study::PredictionRequest r;
-  r.baseline = true;
+  r.displacement_mm = displacement_mm;
+  r.thickness_mm = thickness_mm;
+  r.material = settings.material;
+  r.optics_model = settings.optics_model;
   r.photons = settings.photons;
   r.seed = settings.seed;
   r.mesh_preset = settings.mesh_preset;
-  r.optics_model = settings.optics_model;
   r.threads = settings.mc_threads;
-  r.material = settings.material;
+  return r;
+}
+
+}  // namespace
+
+void validate(const SimPredictorSettings& settings) {
+  // The glass-only baseline every step is predicted against: its request carries every
+  // setting, and needs no sample geometry (the thickness is any valid one).
+  sim::study::PredictionRequest r = request_of(settings, 0.0, 1.0);
+  r.baseline = true;
   try {
     sim::study::validate(r);
   } catch (const ConfigError& e) {
@@ -49,15 +62,7 @@ void validate(const SimPredictorSettings& settings) {
 
 sim::study::PredictionRequest SimStepPredictor::request_for(double displacement_mm,
                                                             double thickness_mm) const {
-  sim::study::PredictionRequest r;
-  r.displacement_mm = displacement_mm;
-  r.thickness_mm = thickness_mm;
-  r.material = settings_.material;
-  r.optics_model = settings_.optics_model;
-  r.photons = settings_.photons;
-  r.seed = settings_.seed;
-  r.mesh_preset = settings_.mesh_preset;
-  r.threads = settings_.mc_threads;
+  sim::study::PredictionRequest r = request_of(settings_, displacement_mm, thickness_mm);
   r.cancel = cancel_;
   return r;
 }
