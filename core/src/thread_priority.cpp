@@ -2,8 +2,6 @@
 
 #include <cerrno>
 
-#include <pthread.h>
-#include <sched.h>
 #include <sys/resource.h>
 #include <sys/syscall.h>
 #include <unistd.h>
@@ -21,17 +19,13 @@ id_t this_thread_id() noexcept {
 }  // namespace
 
 bool run_this_thread_in_background() noexcept {
-  const sched_param none{};
-  const bool idle = ::pthread_setschedparam(::pthread_self(), SCHED_IDLE, &none) == 0;
-  // Niceness as well: it still ranks the thread where SCHED_IDLE is refused (some containers).
-  const bool nice = ::setpriority(PRIO_PROCESS, this_thread_id(), 19) == 0;
-  return idle || nice;
+  errno = 0;
+  const int now = ::getpriority(PRIO_PROCESS, this_thread_id());
+  if (errno == 0 && now >= kBackgroundNiceness) return true;  // already there (or lower)
+  return ::setpriority(PRIO_PROCESS, this_thread_id(), kBackgroundNiceness) == 0;
 }
 
 bool this_thread_is_in_background() noexcept {
-  int policy = 0;
-  sched_param p{};
-  if (::pthread_getschedparam(::pthread_self(), &policy, &p) == 0 && policy == SCHED_IDLE) return true;
   errno = 0;
   const int nice = ::getpriority(PRIO_PROCESS, this_thread_id());
   return errno == 0 && nice > 0;

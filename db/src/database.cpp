@@ -31,6 +31,20 @@ struct Database::Impl {
   Impl(const std::filesystem::path& p, detail::Connection conn)
       : path(p), c(std::move(conn)), locks(p, true) {}
 
+  // At rest a database is one file: the last writer to close takes it out of WAL (checkpoint,
+  // rollback journal), so that readers, which open it read-only, find no WAL and leave no
+  // -wal and -shm files beside a file they only read. The next writer turns WAL on again.
+  // With another connection open (a reader, a second writer) SQLite refuses at once (no
+  // busy wait here) and the file stays in WAL until that one's writer closes.
+  ~Impl() {
+    if (!c.get()) return;
+    sqlite3_busy_timeout(c.get(), 0);
+    char* error = nullptr;
+    if (sqlite3_exec(c.get(), "PRAGMA journal_mode=DELETE", nullptr, nullptr, &error) != SQLITE_OK)
+      logger("db")->debug("'{}' stays in WAL at close: {}", path.string(), error ? error : "busy");
+    sqlite3_free(error);
+  }
+
   std::int64_t insert_event(const EventRecord& e) {
     Statement s(c,
                 "INSERT INTO events(run_id, t_ns, kind, message, step_index, data_json, segment) "

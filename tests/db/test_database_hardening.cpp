@@ -153,8 +153,33 @@ TEST(DbHardening, WalDatabaseInReadOnlyDirectoryOpensReadOnly) {
   TempDir dir;
   const auto path = dir / "lab.sqlite";
   make_run(path, "archived");
+  // tocdlab's last writer leaves a file in rollback mode; one still in WAL mode (its writer was
+  // killed, or an older tocdlab wrote it) is what needs the read-only open.
+  {
+    sqlite3* raw = nullptr;
+    ASSERT_EQ(sqlite3_open(path.c_str(), &raw), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(raw, "PRAGMA journal_mode=WAL", nullptr, nullptr, nullptr), SQLITE_OK);
+    sqlite3_close(raw);
+  }
   ASSERT_FALSE(std::filesystem::exists(path.string() + "-shm"));  // removed on the last close
   std::filesystem::permissions(dir.path(), std::filesystem::perms(0755));
   std::filesystem::permissions(path, std::filesystem::perms(0644));
   EXPECT_EQ(open_without_write_access(path), "");
+}
+
+// A file at rest (its last writer closed) is in rollback mode: a read-only directory is no
+// obstacle and needs no note, and nothing is written beside it.
+TEST(DbHardening, ADatabaseAtRestInAReadOnlyDirectoryOpensWithoutANote) {
+  TempDir dir;
+  const auto path = dir / "lab.sqlite";
+  make_run(path, "archived");
+  std::filesystem::permissions(dir.path(), std::filesystem::perms(0555));
+  {
+    const Reader reader(path);
+    EXPECT_EQ(reader.runs().size(), 1u);
+    EXPECT_TRUE(reader.warnings().empty()) << reader.warnings()[0];
+  }
+  EXPECT_FALSE(std::filesystem::exists(path.string() + "-wal"));
+  EXPECT_FALSE(std::filesystem::exists(path.string() + "-shm"));
+  std::filesystem::permissions(dir.path(), std::filesystem::perms(0755));
 }

@@ -58,21 +58,31 @@ TEST(DbOpen, NewFileGetsCurrentSchemaIdentityAndWal) {
     EXPECT_EQ(db.schema_version(), Database::kSchemaVersion);
     EXPECT_EQ(db.integrity_check(), "ok");
     EXPECT_TRUE(db.interrupted_on_open().empty());
+    // WAL while a writer has it open: readers and the writer never block each other.
+    EXPECT_EQ(db.journal_mode(), "wal");
   }
   EXPECT_EQ(pragma(path, "user_version"), Database::kSchemaVersion);
   EXPECT_EQ(pragma(path, "application_id"), Database::kApplicationId);
-  // journal_mode is persistent in the file header for WAL.
+  // At rest (the last writer closed) the file is in rollback mode, one file: a reader, which
+  // opens it read-only, finds no WAL and leaves no -wal and -shm beside it.
+  {
+    const tocd::db::Reader r(path);
+    EXPECT_TRUE(r.runs().empty());
+  }
+  EXPECT_FALSE(std::filesystem::exists(path.string() + "-wal"));
+  EXPECT_FALSE(std::filesystem::exists(path.string() + "-shm"));
   sqlite3* raw = nullptr;
   sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr);
   sqlite3_stmt* s = nullptr;
   sqlite3_prepare_v2(raw, "PRAGMA journal_mode", -1, &s, nullptr);
   ASSERT_EQ(sqlite3_step(s), SQLITE_ROW);
-  EXPECT_STREQ(reinterpret_cast<const char*>(sqlite3_column_text(s, 0)), "wal");
+  EXPECT_STREQ(reinterpret_cast<const char*>(sqlite3_column_text(s, 0)), "delete");
   sqlite3_finalize(s);
   sqlite3_close(raw);
-  // Reopening is a no-op migration and keeps the version.
+  // Reopening is a no-op migration, keeps the version and turns WAL on again.
   Database again(path);
   EXPECT_EQ(again.schema_version(), Database::kSchemaVersion);
+  EXPECT_EQ(again.journal_mode(), "wal");
 }
 
 TEST(DbOpen, EveryDocumentedTableExists) {

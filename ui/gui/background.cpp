@@ -1,12 +1,10 @@
 #include "background.hpp"
 
-#include <QThread>
-
 namespace tocd::gui {
 
-TaskRunner::TaskRunner(QObject* parent, int max_threads, bool background) : QObject(parent) {
+TaskRunner::TaskRunner(QObject* parent, int max_threads, bool background)
+    : QObject(parent), background_(background) {
   pool_.setMaxThreadCount(max_threads);
-  if (background) pool_.setThreadPriority(QThread::IdlePriority);
 }
 
 TaskRunner::~TaskRunner() {

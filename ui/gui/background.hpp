@@ -7,6 +7,8 @@
 #include <functional>
 #include <memory>
 
+#include "tocd/core/thread_priority.hpp"
+
 namespace tocd::gui {
 
 /// Runs blocking work (database queries, exports, simulations) off the GUI thread and
@@ -20,8 +22,8 @@ class TaskRunner : public QObject {
 
  public:
   /// `background`: the work is computation (studies, fits) that may run beside a recording;
-  /// its threads run at the idle priority (SCHED_IDLE), and the threads it starts inherit
-  /// that, so that it never costs the instruments' pollers a reading.
+  /// each task runs at the background niceness (tocd::run_this_thread_in_background), and the
+  /// threads it starts inherit it, so that it never costs the instruments' pollers a reading.
   explicit TaskRunner(QObject* parent = nullptr, int max_threads = 1, bool background = false);
   ~TaskRunner() override;
 
@@ -30,6 +32,7 @@ class TaskRunner : public QObject {
            std::function<void(const QString&)> failed) {
     ++in_flight_;
     pool_.start([this, work = std::move(work), done = std::move(done), failed = std::move(failed)]() mutable {
+      if (background_) run_this_thread_in_background();
       try {
         auto result = std::make_shared<T>(work());
         QMetaObject::invokeMethod(
@@ -56,6 +59,7 @@ class TaskRunner : public QObject {
   void deliver_failure(std::function<void(const QString&)> failed, const QString& message);
 
   QThreadPool pool_;
+  bool background_ = false;
   int in_flight_ = 0;  ///< touched only on this object's thread
 };
 

@@ -1,4 +1,5 @@
 // `tocdlab run / runs / compare / export` end to end on the simulated lab.
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -420,6 +421,16 @@ TEST_F(CliRun, ControlCharactersInAStoredNameNeverReachTheTerminal) {
   const auto clean = [](const std::string& s) {
     return s.find('\x1b') == std::string::npos && s.find("\xE2\x80\xAE") == std::string::npos;
   };
+  // The database files at rest: the file and the run lock, no -wal or -shm (the writer closed).
+  const auto db_files = [&] {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir_))
+      if (e.path().filename().string().rfind("lab.db", 0) == 0) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  };
+  const std::vector<std::string> at_rest{"lab.db", "lab.db-runlock"};
+  EXPECT_EQ(db_files(), at_rest);
   EXPECT_TRUE(clean(out_)) << out_;
   EXPECT_NE(out_.find("red \xEF\xBF\xBD[31m then \xEF\xBF\xBD"
                       "evil"),
@@ -436,6 +447,9 @@ TEST_F(CliRun, ControlCharactersInAStoredNameNeverReachTheTerminal) {
   EXPECT_EQ(listing["runs"][0]["run_id"], 1);
   EXPECT_EQ(listing["runs"][0]["status"], "completed");
   EXPECT_EQ(listing["runs"][0]["steps"], 3);
+  ASSERT_EQ(tocdlab(fmt::format("export --db {} --run 1", db.string())), 0) << err_;
+  // Commands that only read leave the directory as they found it.
+  EXPECT_EQ(db_files(), at_rest);
   // The database keeps the name as written.
   EXPECT_EQ(tocd::db::Reader(db).run(1).name,
             "red \x1b[31m then \xE2\x80\xAE"

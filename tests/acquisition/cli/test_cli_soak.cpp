@@ -1,6 +1,6 @@
 // The soak test: the demo protocol at clock factor 1 (the tester read at its 1000 Hz in real
 // time), predictions on, beside two busy processes at normal priority on a 2-core machine.
-// Predictions run in the background (SCHED_IDLE) and leave the pollers a core: no recording
+// Predictions run at the background niceness and leave the pollers a core: no recording
 // window may be re-recorded for missing readings, and every step is recorded. The full demo
 // protocol runs under the `soak` label; the default suite runs two of its steps.
 #include <algorithm>

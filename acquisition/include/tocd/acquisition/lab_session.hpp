@@ -27,7 +27,7 @@ struct LabSessionOptions {
 };
 
 /// The simulator's predictor of a recording's steps, as every front end makes it: its threads
-/// run in the background (SCHED_IDLE), so that predictions never cost the pollers a reading,
+/// run at the background niceness (10), so that predictions never cost the pollers a reading,
 /// and its Monte Carlo leaves one core to them and the writer unless `settings` chose a thread
 /// count. Throws ConfigError for settings no step could be predicted with.
 std::shared_ptr<StepPredictor> make_recording_predictor(SimPredictorSettings settings);
