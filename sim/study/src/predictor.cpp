@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "composite_spec.hpp"
 #include "material_json.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/core/log.hpp"
@@ -103,22 +104,6 @@ std::string prepared_key(const PredictionRequest& r) {
   nlohmann::json j = {{"mesh", mesh_key(r)}, {"model", r.baseline ? "threshold" : r.optics_model}};
   if (!r.baseline && r.optics_model == "graded") j["graded"] = to_json(r.graded);
   return j.dump();
-}
-
-geometry::CompositeSpec composite_spec(const PredictionRequest& r, const geometry::SkinProfile& profile) {
-  geometry::CompositeSpec s;
-  s.slide_size_mm = r.slide_size_mm;
-  s.skin_size_mm = r.slide_size_mm;
-  s.slide_thickness_mm = r.slide_thickness_mm;
-  s.pin_radius_mm = r.pin_radius_mm;
-  s.pin_length_mm = r.pin_length_mm;
-  s.pin_displacement_mm = r.baseline ? 0.0 : r.displacement_mm;
-  s.baseline = r.baseline;
-  s.skin = profile;
-  s.size.preset = r.mesh_preset;
-  s.size.max_edge_mm = r.max_edge_mm;
-  s.size.tip_edge_mm = r.tip_edge_mm;
-  return s;
 }
 
 nlohmann::json mesh_stats(const PreparedEntry& p) {

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include "composite_spec.hpp"
 #include "json_keys.hpp"
 #include "json_whole_number.hpp"
 #include "material_json.hpp"
@@ -57,18 +58,10 @@ void validate(const PredictionRequest& r) {
   require(r.slide_n == 0.0 || (r.slide_n >= 1.0 && r.slide_n < 3.0),
           fmt::format("slide_n {} must be 0 (glass) or in [1, 3)", r.slide_n));
   // A mesh too fine to build is refused before the FE (TetGen would run for hours).
-  geometry::CompositeSpec mesh;
-  mesh.slide_size_mm = r.slide_size_mm;
-  mesh.skin_size_mm = r.slide_size_mm;
-  mesh.slide_thickness_mm = r.slide_thickness_mm;
-  mesh.pin_radius_mm = r.pin_radius_mm;
-  mesh.pin_length_mm = r.pin_length_mm;
-  mesh.skin.thickness_mm = r.thickness_mm;
-  mesh.size.preset = r.mesh_preset;
-  mesh.size.max_edge_mm = r.max_edge_mm;
-  mesh.size.tip_edge_mm = r.tip_edge_mm;
+  geometry::SkinProfile flat;
+  flat.thickness_mm = r.thickness_mm;
   try {
-    geometry::check_mesh_size(mesh);
+    geometry::check_mesh_size(composite_spec(r, flat));
   } catch (const geometry::GeometryError& e) {
     throw ConfigError(
         fmt::format("max_edge_mm {} / tip_edge_mm {}: {}", r.max_edge_mm, r.tip_edge_mm, e.what()));
@@ -269,6 +262,22 @@ ConfigDocument config_document_from_json(const nlohmann::json& document) {
     d.quantity = j->at("quantity").get<std::string>();
   }
   return d;
+}
+
+geometry::CompositeSpec composite_spec(const PredictionRequest& r, const geometry::SkinProfile& profile) {
+  geometry::CompositeSpec s;
+  s.slide_size_mm = r.slide_size_mm;
+  s.skin_size_mm = r.slide_size_mm;
+  s.slide_thickness_mm = r.slide_thickness_mm;
+  s.pin_radius_mm = r.pin_radius_mm;
+  s.pin_length_mm = r.pin_length_mm;
+  s.pin_displacement_mm = r.baseline ? 0.0 : r.displacement_mm;
+  s.baseline = r.baseline;
+  s.skin = profile;
+  s.size.preset = r.mesh_preset;
+  s.size.max_edge_mm = r.max_edge_mm;
+  s.size.tip_edge_mm = r.tip_edge_mm;
+  return s;
 }
 
 }  // namespace tocd::sim::study

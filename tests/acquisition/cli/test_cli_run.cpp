@@ -104,6 +104,29 @@ class CliRun : public ::testing::Test {
     return rc == 0 ? pid : -1;
   }
   fs::path out_path() const { return dir_ / "spawned.out"; }
+  /// How a spawned process ended after interrupt().
+  struct Ended {
+    bool exited = false;
+    int status = -1;
+    double seconds = 0;  ///< from the first signal to the end
+    std::string said;    ///< what it printed
+  };
+  /// Sends `count` SIGINTs 100 ms apart to the spawned `pid` and waits for it to end.
+  Ended interrupt(pid_t pid, int count) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int k = 0; k < count; ++k) {
+      if (k > 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      ::kill(pid, SIGINT);
+    }
+    int st = 0;
+    ::waitpid(pid, &st, 0);
+    Ended e;
+    e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    e.exited = WIFEXITED(st);
+    e.status = e.exited ? WEXITSTATUS(st) : -1;
+    e.said = slurp(out_path());
+    return e;
+  }
   /// Waits until the spawned process has printed `text` (true) or `seconds` have passed.
   bool wait_for_output(const std::string& text, double seconds) {
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
@@ -193,13 +216,10 @@ TEST_F(CliRun, SigintAbortsGracefullyAndTheRunResumes) {
   // Wait for the first step to be recording (5 x faster: approach, settle, hold take ~0.5 s).
   wait_for_output("recording into", 30.0);
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
-  ASSERT_EQ(::kill(pid, SIGINT), 0);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 0);
-  const std::string said = slurp(out_path());
-  EXPECT_NE(said.find("run 1 aborted; all data kept"), std::string::npos) << said;
+  const Ended end = interrupt(pid, 1);
+  ASSERT_TRUE(end.exited) << end.said;
+  EXPECT_EQ(end.status, 0) << end.said;
+  EXPECT_NE(end.said.find("run 1 aborted; all data kept"), std::string::npos) << end.said;
   {
     const tocd::db::Reader r(db);
     EXPECT_EQ(r.run(1).status, tocd::db::RunStatus::aborted);
@@ -278,17 +298,13 @@ TEST_F(CliRun, SigintAfterTheLastStepCancelsThePredictionsAtOnce) {
   ASSERT_GT(pid, 0);
   ASSERT_TRUE(wait_for_output("step 3/3 recorded", 120.0)) << slurp(out_path());
   ASSERT_TRUE(wait_for_output("run 1 (3 steps)", 1.0));
-  const auto t0 = std::chrono::steady_clock::now();
-  ASSERT_EQ(::kill(pid, SIGINT), 0);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const std::string said = slurp(out_path());
-  ASSERT_TRUE(WIFEXITED(status)) << said;
-  EXPECT_EQ(WEXITSTATUS(status), 0) << said;
+  const Ended end = interrupt(pid, 1);
+  const std::string& said = end.said;
+  ASSERT_TRUE(end.exited) << said;
+  EXPECT_EQ(end.status, 0) << said;
   // The promise is 2 s; the bound leaves room for a loaded machine and sanitizer builds (the
   // figure itself is measured in the closing note, not here).
-  EXPECT_LT(seconds, 10.0) << said;
+  EXPECT_LT(end.seconds, 10.0) << said;
   EXPECT_NE(said.find("run 1 completed"), std::string::npos) << said;
   EXPECT_NE(said.find("step prediction(s) cancelled by the abort"), std::string::npos) << said;
   const tocd::db::Reader r(db);
@@ -313,17 +329,11 @@ TEST_F(CliRun, TwoSigintsDuringAStepWithAPredictionRunningEndAtOnce) {
   ASSERT_GT(pid, 0);
   ASSERT_TRUE(wait_for_output("step 1/3 recorded", 120.0)) << slurp(out_path());
   std::this_thread::sleep_for(std::chrono::milliseconds(500));  // step 2 under way, step 1 predicting
-  const auto t0 = std::chrono::steady_clock::now();
-  ASSERT_EQ(::kill(pid, SIGINT), 0);
-  std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  ASSERT_EQ(::kill(pid, SIGINT), 0);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const std::string said = slurp(out_path());
-  ASSERT_TRUE(WIFEXITED(status)) << said;
-  EXPECT_EQ(WEXITSTATUS(status), 0) << said;
-  EXPECT_LT(seconds, 10.0) << said;  // promised 0.5 s after the second; see the note for the figure
+  const Ended end = interrupt(pid, 2);
+  const std::string& said = end.said;
+  ASSERT_TRUE(end.exited) << said;
+  EXPECT_EQ(end.status, 0) << said;
+  EXPECT_LT(end.seconds, 10.0) << said;  // promised 0.5 s after the second; see the note for the figure
   EXPECT_NE(said.find("run 1 aborted"), std::string::npos) << said;
   const tocd::db::Reader r(db);
   EXPECT_EQ(r.run(1).status, tocd::db::RunStatus::aborted);
