@@ -59,6 +59,15 @@ int ogden_terms(InverseModel m) {
   return m == InverseModel::ogden1 ? 1 : m == InverseModel::ogden2 ? 2 : m == InverseModel::ogden3 ? 3 : 0;
 }
 
+}  // namespace
+
+std::size_t free_parameters(InverseModel m, bool fit_D) {
+  const int n = ogden_terms(m);
+  return n == 0 ? 1 : static_cast<std::size_t>(2 * n + (fit_D ? 1 : 0));
+}
+
+namespace {
+
 double poisson_D1(double mu0, double nu) {
   return 3 * (1 - 2 * nu) / (mu0 * (1 + nu));  // D_1 = 2 / K_0, K_0 = 2 mu_0 (1 + nu) / (3 (1 - 2 nu))
 }

@@ -112,11 +112,7 @@ void run_fit_fe(const FitFeOptions& o) {
   std::size_t points = 0;
   for (const auto& p : pins) points += p.load_N.size();
   for (const auto& c : closed) points += c.x.size();
-  const int terms = fo.model == fe::InverseModel::ogden1   ? 1
-                    : fo.model == fe::InverseModel::ogden2 ? 2
-                    : fo.model == fe::InverseModel::ogden3 ? 3
-                                                           : 0;
-  const std::size_t parameters = terms == 0 ? 1 : static_cast<std::size_t>(2 * terms + (o.fit_D ? 1 : 0));
+  const std::size_t parameters = fe::free_parameters(fo.model, o.fit_D);
   if (points <= parameters) {
     throw tocd::ConfigError(fmt::format(
         "--model {} has {} free parameters and the data give {} points; a fit needs more points than "

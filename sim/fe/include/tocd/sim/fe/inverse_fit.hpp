@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstddef>
 #include <functional>
 #include <string>
 #include <vector>
@@ -39,6 +40,8 @@ enum class InverseModel {
 };
 InverseModel parse_inverse_model(const std::string& name);  ///< "scaled" | "ogden1..3"; MaterialError
 std::string to_string(InverseModel m);
+/// How many parameters a fit of `m` adjusts (D_1 among them when `fit_D`).
+std::size_t free_parameters(InverseModel m, bool fit_D);
 
 struct InverseFitOptions {
   InverseModel model = InverseModel::ogden3;
