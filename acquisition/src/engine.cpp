@@ -209,6 +209,7 @@ std::int64_t Engine::start(const Protocol& protocol) {
   nr.operator_name = m.opt.operator_name;
   nr.baseline_power_W = m.baseline_W;
   nr.settings = power_meter_settings(*m.inst.power_meter, m.opt.lab_config_text);
+  nr.clock_factor = m.opt.clock_factor;
   const db::RunRecord run = m.db.create_run(nr);
   m.run_id = run.id;
   m.clock = ScaledClock(m.opt.clock_factor, run.monotonic_anchor_ns);
@@ -257,12 +258,12 @@ std::int64_t Engine::resume(std::int64_t run_id) {
   }
   m.baseline_W = before.baseline_power_W;
 
-  const db::ResumePoint rp = m.db.resume_run(run_id);
+  const db::ResumePoint rp = m.db.resume_run(run_id, m.opt.clock_factor);
   try {
     m.run_id = run_id;
-    // Keep the run's timestamps increasing across the gap, also with a fast simulated clock.
-    m.clock =
-        ScaledClock(m.opt.clock_factor, std::max({monotonic_ns(), rp.gap_to_t_ns, rp.gap_from_t_ns + 1}));
+    // The new segment's clock starts where its anchor says (after everything recorded), so
+    // the run's timestamps keep increasing across the gap and UTC stays real time.
+    m.clock = ScaledClock(m.opt.clock_factor, rp.gap_to_t_ns);
     m.first_step = rp.first_incomplete_step;
     if (m.inst.tester) {
       write_tester_limits(m.protocol, *m.inst.tester);

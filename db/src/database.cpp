@@ -1,5 +1,7 @@
 #include "tocd/db/database.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <mutex>
 #include <string>
 
@@ -57,11 +59,11 @@ struct Database::Impl {
     return sqlite3_last_insert_rowid(c.get());
   }
 
-  void add_anchor(std::int64_t run_id, std::int64_t wall, std::int64_t mono) {
+  void add_anchor(std::int64_t run_id, std::int64_t wall, std::int64_t mono, double clock_factor) {
     Statement s(c,
-                "INSERT INTO run_anchors(run_id, segment, wall_utc_ns, monotonic_ns) VALUES(?, "
-                "(SELECT coalesce(max(segment) + 1, 0) FROM run_anchors WHERE run_id = ?), ?, ?)");
-    s.bind(1, run_id).bind(2, run_id).bind(3, wall).bind(4, mono).run();
+                "INSERT INTO run_anchors(run_id, segment, wall_utc_ns, monotonic_ns, clock_factor) VALUES(?, "
+                "(SELECT coalesce(max(segment) + 1, 0) FROM run_anchors WHERE run_id = ?), ?, ?, ?)");
+    s.bind(1, run_id).bind(2, run_id).bind(3, wall).bind(4, mono).bind(5, clock_factor).run();
   }
 
   // Runs left `running` by a process that no longer holds their lock were cut off.
@@ -75,9 +77,10 @@ struct Database::Impl {
       const auto last = detail::last_recorded_t_ns(c, r.id);
       const auto anchors = detail::run_anchors(c, r.id);
       const RunAnchor a =
-          anchors.empty() ? RunAnchor{r.id, 0, r.wall_anchor_utc_ns, r.monotonic_anchor_ns} : anchors.back();
+          anchors.empty() ? RunAnchor{r.id, 0, r.wall_anchor_utc_ns, r.monotonic_anchor_ns, r.clock_factor}
+                          : anchors.back();
       Statement u(c, "UPDATE runs SET status = 'interrupted', ended_utc_ns = ? WHERE id = ?");
-      if (last) u.bind(1, a.wall_utc_ns + (*last - a.monotonic_ns));
+      if (last) u.bind(1, utc_ns({a}, a.segment, *last));
       u.bind(2, r.id).run();
       EventRecord e;
       e.run_id = r.id;
@@ -217,6 +220,10 @@ RunRecord Database::create_run(const NewRun& in) {
   r.host = host_name();
   r.software_commit = std::string(tocd::git_commit());
   r.settings = in.settings;
+  if (!(in.clock_factor > 0.0) || !std::isfinite(in.clock_factor))
+    throw DatabaseError(
+        fmt::format("a run's clock factor must be a positive number, got {}", in.clock_factor));
+  r.clock_factor = in.clock_factor;
 
   Transaction t(impl_->c);
   Statement s(impl_->c,
@@ -237,7 +244,7 @@ RunRecord Database::create_run(const NewRun& in) {
     setting.bind(1, r.id).bind(2, key).bind(3, value).run();
     setting.reset();
   }
-  impl_->add_anchor(r.id, r.wall_anchor_utc_ns, r.monotonic_anchor_ns);
+  impl_->add_anchor(r.id, r.wall_anchor_utc_ns, r.monotonic_anchor_ns, r.clock_factor);
   // Lock before commit: from the moment the run is visible as running, it is visibly live.
   if (!impl_->locks.acquire(r.id))
     throw DatabaseError(fmt::format("run {} is already locked by another process", r.id));
@@ -263,7 +270,9 @@ void Database::set_baseline_power(std::int64_t run_id, double baseline_power_W) 
   s.bind(1, baseline_power_W).bind(2, run_id).run();
 }
 
-ResumePoint Database::resume_run(std::int64_t run_id) {
+ResumePoint Database::resume_run(std::int64_t run_id, double clock_factor) {
+  if (!(clock_factor > 0.0) || !std::isfinite(clock_factor))
+    throw DatabaseError(fmt::format("a run's clock factor must be a positive number, got {}", clock_factor));
   std::lock_guard lk(impl_->mu);
   RunRecord r = detail::require_run(impl_->c, run_id);
   if (r.status == RunStatus::completed)
@@ -278,15 +287,17 @@ ResumePoint Database::resume_run(std::int64_t run_id) {
     Transaction t(impl_->c);
     p.first_incomplete_step = detail::first_incomplete_step(impl_->c, run_id);
     const auto last = detail::last_recorded_t_ns(impl_->c, run_id);
-    p.gap_to_t_ns = monotonic_ns();
+    const std::int64_t now = monotonic_ns();
     const auto wall = wall_clock_ns();
+    // The resumed segment's clock starts after everything recorded, so t_ns stays ordered also
+    // when a sped-up simulated clock ran ahead of the monotonic one or the machine rebooted
+    // (its monotonic clock restarted behind where the run's last segment began).
+    p.gap_to_t_ns = last ? std::max(now, *last + 1) : now;
     p.gap_from_t_ns = last.value_or(p.gap_to_t_ns);
-    // The clock restarted only if it is now behind where the run's last segment began (a
-    // reboot); samples stamped after "now" without that came from a sped-up simulated clock.
     const auto anchors = detail::run_anchors(impl_->c, run_id);
     const std::int64_t segment_began = anchors.empty() ? r.monotonic_anchor_ns : anchors.back().monotonic_ns;
-    const bool clock_restarted = segment_began > p.gap_to_t_ns;
-    impl_->add_anchor(run_id, wall, p.gap_to_t_ns);
+    const bool clock_restarted = segment_began > now;
+    impl_->add_anchor(run_id, wall, p.gap_to_t_ns, clock_factor);
     Statement s(impl_->c, "UPDATE runs SET status = 'running', ended_utc_ns = NULL WHERE id = ?");
     s.bind(1, run_id).run();
     p.gap_event.run_id = run_id;
@@ -295,23 +306,18 @@ ResumePoint Database::resume_run(std::int64_t run_id) {
     p.gap_event.step_index = p.first_incomplete_step;
     // Steps are numbered from 1 wherever a user reads them (step_index stays 0-based).
     const int step_shown = p.first_incomplete_step + 1;
-    if (!last)
+    if (!last) {
       p.gap_event.message = fmt::format("resumed (was {}, nothing recorded yet); continuing at step {}",
                                         to_string(r.status), step_shown);
-    else if (*last <= p.gap_to_t_ns)
+    } else {
+      // The gap in real time: UTC of the last record (by its segment's anchor) to now.
+      const std::int64_t last_utc =
+          anchors.empty() ? r.to_utc_ns(*last) : utc_ns(anchors, anchors.back().segment, *last);
       p.gap_event.message =
-          fmt::format("resumed after a gap of {:.3f} s (was {}); continuing at step {}",
-                      static_cast<double>(p.gap_to_t_ns - *last) * 1e-9, to_string(r.status), step_shown);
-    else if (clock_restarted)  // a reboot: times before and after differ in anchor
-      p.gap_event.message = fmt::format(
-          "resumed (was {}; the monotonic clock restarted, see run_anchors); continuing at step {}",
-          to_string(r.status), step_shown);
-    else
-      p.gap_event.message = fmt::format(
-          "resumed (was {}; its last samples are stamped {:.3f} s ahead of now by a sped-up simulated "
-          "clock); "
-          "continuing at step {}",
-          to_string(r.status), static_cast<double>(*last - p.gap_to_t_ns) * 1e-9, step_shown);
+          fmt::format("resumed after a gap of {:.3f} s (was {}{}); continuing at step {}",
+                      static_cast<double>(wall - last_utc) * 1e-9, to_string(r.status),
+                      clock_restarted ? "; the monotonic clock restarted, see run_anchors" : "", step_shown);
+    }
     p.gap_event.data_json = fmt::format(R"({{"gap_from_t_ns":{},"gap_to_t_ns":{},"resumed_utc_ns":{}}})",
                                         p.gap_from_t_ns, p.gap_to_t_ns, wall);
     p.gap_event.id = impl_->insert_event(p.gap_event);

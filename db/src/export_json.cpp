@@ -30,6 +30,7 @@ json run_json(const RunRecord& r) {
           {"ended_utc_ns", r.ended_utc_ns ? json(*r.ended_utc_ns) : json(nullptr)},
           {"wall_anchor_utc_ns", r.wall_anchor_utc_ns},
           {"monotonic_anchor_ns", r.monotonic_anchor_ns},
+          {"clock_factor", r.clock_factor},
           {"baseline_power_W", r.baseline_power_W},
           {"protocol", r.protocol_text},
           {"lab_config", r.lab_config_text}};
@@ -60,8 +61,10 @@ void write_json(const Reader& reader, std::int64_t run_id, const JsonExportOptio
   const auto run_anchors = reader.anchors(run_id);
   json anchors = json::array();
   for (const auto& a : run_anchors)
-    anchors.push_back(
-        {{"segment", a.segment}, {"wall_utc_ns", a.wall_utc_ns}, {"monotonic_ns", a.monotonic_ns}});
+    anchors.push_back({{"segment", a.segment},
+                       {"wall_utc_ns", a.wall_utc_ns},
+                       {"monotonic_ns", a.monotonic_ns},
+                       {"clock_factor", a.clock_factor}});
   doc["anchors"] = anchors;
 
   json instruments = json::array();

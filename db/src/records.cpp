@@ -1,5 +1,6 @@
 #include "tocd/db/records.hpp"
 
+#include <cmath>
 #include <string>
 
 #include "tocd/db/database.hpp"
@@ -32,7 +33,8 @@ std::int64_t utc_ns(const std::vector<RunAnchor>& anchors, int segment, std::int
   for (const auto& a : anchors)  // ordered by segment
     if (a.segment <= segment) use = &a;
   if (!use && !anchors.empty()) use = &anchors.front();
-  return use ? use->wall_utc_ns + (t_ns - use->monotonic_ns) : t_ns;
+  if (!use) return t_ns;
+  return use->wall_utc_ns + std::llround(static_cast<double>(t_ns - use->monotonic_ns) / use->clock_factor);
 }
 
 }  // namespace tocd::db

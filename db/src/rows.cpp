@@ -11,7 +11,9 @@ namespace {
 constexpr const char* kRunColumns =
     "SELECT id, uuid, name, specimen_id, protocol, lab_config, software_version, operator, "
     "baseline_power_W, wall_anchor_utc_ns, monotonic_anchor_ns, started_utc_ns, ended_utc_ns, status, "
-    "host, software_commit FROM runs";
+    "host, software_commit, "
+    "coalesce((SELECT clock_factor FROM run_anchors a WHERE a.run_id = runs.id AND a.segment = 0), 1.0) "
+    "FROM runs";
 
 RunRecord read_run(const Statement& s) {
   RunRecord r;
@@ -31,6 +33,7 @@ RunRecord read_run(const Statement& s) {
   r.status = run_status_from_string(s.col_text(13));
   r.host = s.col_text(14);
   r.software_commit = s.col_text(15);
+  r.clock_factor = s.col_double(16);
   return r;
 }
 
@@ -67,10 +70,12 @@ RunRecord require_run(const Connection& c, std::int64_t run_id) {
 
 std::vector<RunAnchor> run_anchors(const Connection& c, std::int64_t run_id) {
   Statement s(c,
-              "SELECT segment, wall_utc_ns, monotonic_ns FROM run_anchors WHERE run_id = ? ORDER BY segment");
+              "SELECT segment, wall_utc_ns, monotonic_ns, clock_factor FROM run_anchors WHERE run_id = ? "
+              "ORDER BY segment");
   s.bind(1, run_id);
   std::vector<RunAnchor> out;
-  while (s.step()) out.push_back({run_id, static_cast<int>(s.col_int(0)), s.col_int(1), s.col_int(2)});
+  while (s.step())
+    out.push_back({run_id, static_cast<int>(s.col_int(0)), s.col_int(1), s.col_int(2), s.col_double(3)});
   return out;
 }
 

@@ -135,6 +135,33 @@ SELECT run_id, step, target_displacement_mm, displacement_mm, nominal_strain, ta
        relative_difference
 FROM step_comparison WHERE state = 'completed';
 )sql",
+    // 2 -> 3: the run's clock rate with each anchor. A simulated lab may run its clock faster
+    // than real time; samples keep that clock in t_ns, and UTC divides it out so every UTC is
+    // real time. Runs written before version 3 did not store the rate: they read as 1.
+    R"sql(
+ALTER TABLE run_anchors ADD COLUMN clock_factor REAL NOT NULL DEFAULT 1.0 CHECK(clock_factor > 0);
+DROP VIEW sample_series;
+-- Every sample of every run in long form. utc_ns / utc / t_s: real time, from the anchor of
+-- the sample's own segment (t_s: seconds since the run started, continuous across resumes).
+-- clock_s: the same instant on the run's own clock (t_ns) since the run started; it differs
+-- from t_s when a simulated lab ran its clock clock_factor times faster than real time.
+CREATE VIEW sample_series AS
+SELECT s.run_id, s.segment, ch.name AS channel, ch.unit, s.t_ns,
+       a.wall_utc_ns + CAST(round((s.t_ns - a.monotonic_ns) / a.clock_factor) AS INTEGER) AS utc_ns,
+       (a.wall_utc_ns + CAST(round((s.t_ns - a.monotonic_ns) / a.clock_factor) AS INTEGER) - r.started_utc_ns)
+           * 1e-9 AS t_s,
+       strftime('%Y-%m-%dT%H:%M:%fZ',
+                (a.wall_utc_ns + CAST(round((s.t_ns - a.monotonic_ns) / a.clock_factor) AS INTEGER)) / 1000000
+                    / 1000.0,
+                'unixepoch') AS utc,
+       (s.t_ns - r.monotonic_anchor_ns) * 1e-9 AS clock_s,
+       a.clock_factor,
+       s.value
+FROM samples s
+JOIN channels ch ON ch.id = s.channel_id
+JOIN runs r ON r.id = s.run_id
+JOIN run_anchors a ON a.run_id = s.run_id AND a.segment = s.segment;
+)sql",
 };
 
 std::string hex(std::int64_t v) {

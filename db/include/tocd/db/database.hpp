@@ -23,7 +23,9 @@ struct ResumePoint {
   RunRecord run;                   // status is `running` again
   int first_incomplete_step = 0;   // lowest step index without a completed step row
   std::int64_t gap_from_t_ns = 0;  // last recorded time of the run (sample, event or step)
-  std::int64_t gap_to_t_ns = 0;    // now (monotonic)
+  std::int64_t gap_to_t_ns = 0;    // the run's clock at the resume: now (monotonic), or just
+                                   // after gap_from_t_ns when that is later; the new segment's
+                                   // clock starts here
   EventRecord gap_event;           // the "gap" event recorded in the run
 };
 
@@ -40,7 +42,7 @@ struct ResumePoint {
 /// go through a Writer (writer.hpp), not through this class.
 class Database {
  public:
-  static constexpr int kSchemaVersion = 2;
+  static constexpr int kSchemaVersion = 3;
   static constexpr std::int32_t kApplicationId = 0x544F4344;  // "TOCD" (PRAGMA application_id)
 
   /// Opens (creating when absent) the database at `path`; see the class comment.
@@ -76,8 +78,9 @@ class Database {
   void set_baseline_power(std::int64_t run_id, double baseline_power_W);
   /// Continues an `interrupted` or `aborted` run in the same run: status back to `running`,
   /// a new anchor segment, a "gap" event from the last recorded time to now. Refuses a
-  /// completed run or one that is running.
-  ResumePoint resume_run(std::int64_t run_id);
+  /// completed run or one that is running. `clock_factor`: the resumed segment's clock rate
+  /// (NewRun::clock_factor).
+  ResumePoint resume_run(std::int64_t run_id, double clock_factor = 1.0);
   /// True while some process (this one included) holds the run's recording lock.
   bool is_live(std::int64_t run_id) const;
 

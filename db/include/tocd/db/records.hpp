@@ -8,6 +8,7 @@
 // Physical values are SI unless the name carries the unit. An unset double is NaN (stored as
 // SQL NULL); an unset id is 0.
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <map>
@@ -59,6 +60,10 @@ struct NewRun {
   /// Instrument settings in force for the run, e.g. "power_meter.wavelength_nm" -> "635",
   /// "power_meter.sensor" -> the sensor's identity. Stored in table run_settings.
   std::map<std::string, std::string> settings;
+  /// Seconds of the run's clock per real second: 1 on a real rig; a simulated lab may run
+  /// faster. Stored with each anchor so UTC stays real time (utc_ns) while the samples keep
+  /// the run's own clock in t_ns.
+  double clock_factor = 1.0;
 };
 
 struct RunRecord {
@@ -79,26 +84,30 @@ struct RunRecord {
   std::string host;             // host name of the machine that created the run
   std::string software_commit;  // `git describe` of the build that created it ("unknown" outside git)
   std::map<std::string, std::string> settings;  // NewRun::settings
+  double clock_factor = 1.0;                    // of segment 0 (NewRun::clock_factor)
 
-  /// UTC time of a monotonic timestamp of this run by the first anchor: right only for times
+  /// UTC time of a run-clock timestamp of this run by the first anchor: right only for times
   /// of segment 0 (before any resume). Use utc_ns(anchors, segment, t_ns) for any segment.
   std::int64_t to_utc_ns(std::int64_t t_ns) const noexcept {
-    return wall_anchor_utc_ns + (t_ns - monotonic_anchor_ns);
+    return wall_anchor_utc_ns + std::llround(static_cast<double>(t_ns - monotonic_anchor_ns) / clock_factor);
   }
 };
 
-/// One more (wall-clock, monotonic) anchor of a run: segment 0 is taken at create_run, one
-/// more at every resume (the monotonic clock restarts at a reboot).
+/// One more (wall-clock, run-clock) anchor of a run: segment 0 is taken at create_run, one
+/// more at every resume (the monotonic clock restarts at a reboot). Within a segment the
+/// run's clock reads monotonic_ns at wall_utc_ns and runs clock_factor times real time.
 struct RunAnchor {
   std::int64_t run_id = 0;
   int segment = 0;
   std::int64_t wall_utc_ns = 0;
   std::int64_t monotonic_ns = 0;
+  double clock_factor = 1.0;
 };
 
-/// UTC of a monotonic time recorded in anchor segment `segment` of a run, by that segment's
-/// anchor (the wall clock may have been adjusted, the monotonic clock restarted, between
-/// segments). Falls back to the latest anchor below it when `segment` is missing.
+/// Real UTC of a run-clock time recorded in anchor segment `segment` of a run, by that
+/// segment's anchor: wall + (t - monotonic) / clock_factor (the wall clock may have been
+/// adjusted, the monotonic clock restarted, between segments). Falls back to the latest
+/// anchor below it when `segment` is missing.
 std::int64_t utc_ns(const std::vector<RunAnchor>& anchors, int segment, std::int64_t t_ns) noexcept;
 
 /// A time series of a run: one physical quantity from one instrument.
