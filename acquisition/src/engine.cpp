@@ -342,7 +342,16 @@ void Engine::Impl::start_threads() {
   pollers.emplace_back([this] { guarded(*this, "power meter poller", [this] { run_power_poller(); }); });
   if (inst.vacuum)
     pollers.emplace_back([this] { guarded(*this, "vacuum poller", [this] { run_vacuum_poller(); }); });
-  predictions.start(run_id, [this] { control.mark_finished(); });
+  predictions.start(run_id, [this] {
+    // The run's predictions belong to it: its end is when the last of them landed (or was
+    // given up), so every time stored with the run lies between its start and its end.
+    try {
+      db.mark_run_ended(run_id);
+    } catch (const std::exception& e) {
+      logger("acquisition")->error("run {}: cannot store its end: {}", run_id, e.what());
+    }
+    control.mark_finished();
+  });
   sequencer = std::thread([this] { run_sequence(); });
 }
 

@@ -263,6 +263,13 @@ void Database::set_run_status(std::int64_t run_id, RunStatus status) {
   impl_->locks.release(run_id);
 }
 
+void Database::mark_run_ended(std::int64_t run_id) {
+  std::lock_guard lk(impl_->mu);
+  detail::require_run(impl_->c, run_id);
+  Statement s(impl_->c, "UPDATE runs SET ended_utc_ns = ? WHERE id = ? AND status <> 'running'");
+  s.bind(1, wall_clock_ns()).bind(2, run_id).run();
+}
+
 void Database::set_baseline_power(std::int64_t run_id, double baseline_power_W) {
   std::lock_guard lk(impl_->mu);
   detail::require_run(impl_->c, run_id);

@@ -23,6 +23,7 @@
 #include "run_view.hpp"
 #include "step_table_model.hpp"
 #include "tocd/db/reader.hpp"
+#include "tocd/mocks/tissue.hpp"
 
 using namespace tocd;
 using namespace tocd::gui;
@@ -125,6 +126,8 @@ std::unique_ptr<MainWindow> WindowRunTest::make_window() {
   // loaded 2-core machine stalling the vacuum twin's pty for ~1.5 s of wall time already
   // reads as a lost controller (seen once under a parallel build).
   lab.clock_factor = 4.0;
+  // The window's mechanics, not the sample: the analytic stand-in is ready at once.
+  lab.tissue = tocd::mocks::make_analytic_tissue(2.5);
   w->set_simulated_lab_options(lab);
   w->set_record_database(dir_->filePath(QStringLiteral("runs.tocdlab")));
   w->show();

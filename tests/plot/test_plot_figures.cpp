@@ -158,10 +158,11 @@ TEST(PlotTornado, BarsRunBothWaysFromZeroAndUnresolvedOnesArePale) {
   write_figure(f, png, size);
   QImage img(QString::fromStdString(png.string()));
   ASSERT_FALSE(img.isNull());
-  const PixelRect base = chart_area(size);
-  auto row = [&](int k) {
-    return static_cast<int>(base.y + (k + 0.5) * base.height / 3 - 6);
-  };  // off the error bar
+  const TornadoLayout layout = tornado_layout(f, size);
+  auto row = [&](int k) {  // off the error bar, which runs through the bar's middle
+    const PixelRect& b = layout.bars[static_cast<std::size_t>(k)];
+    return static_cast<int>(b.y + b.height / 2 - 6);
+  };
   auto run = [&](int y, Rgb colour, int& first, int& last) {
     first = -1, last = -1;
     for (int x = 0; x < img.width(); ++x)

@@ -32,6 +32,7 @@ TEST(PlotSliceCsv, HorizontalSliceBecomesAnXYGridWithCellsCentredOnPoints) {
   EXPECT_EQ(s.ny, 2);
   EXPECT_EQ(s.x_label, "x (mm)");
   EXPECT_EQ(s.y_label, "y (mm)");
+  EXPECT_EQ(s.title, "z = 1.2 mm") << "the panel names its plane";
   EXPECT_DOUBLE_EQ(s.x_min, -1.0);
   EXPECT_DOUBLE_EQ(s.x_max, 2.0);
   EXPECT_DOUBLE_EQ(s.y_min, -1.0);
@@ -66,7 +67,7 @@ TEST(PlotStudyJson, OneBarPerSimulationWithTheColumnAndItsError) {
   ASSERT_EQ(rel.values.size(), 2u);  // the glass-only row has no relative value
   EXPECT_DOUBLE_EQ(rel.values[1], 1.3);
   EXPECT_DOUBLE_EQ(rel.errors[0], 0.05);
-  EXPECT_NE(rel.labels[0].find("0.5 mm"), std::string::npos) << rel.labels[0];
+  EXPECT_NE(rel.labels[0].find("0.5\u00a0mm"), std::string::npos) << rel.labels[0];
 }
 
 TEST(PlotStudyJson, WrongFilesAndColumnsAreNamed) {

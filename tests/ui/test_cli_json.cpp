@@ -155,7 +155,8 @@ TEST_F(CliJson, PredictWaterTimeCourse) {
 }
 
 TEST_F(CliJson, RunAndCompareNumberStepsFromOne) {
-  const auto run = json_of("run protocol.toml --simulated --no-predict --clock-factor 20 --db lab.db --json");
+  const auto run = json_of(
+      "run protocol.toml --simulated --sample analytic --no-predict --clock-factor 20 --db lab.db --json");
   ASSERT_TRUE(run.contains("compare"));
   EXPECT_EQ(run["state"], "completed");
   ASSERT_EQ(run["compare"]["steps"].size(), 2u);
@@ -169,7 +170,8 @@ TEST_F(CliJson, RunAndCompareNumberStepsFromOne) {
 // A recorded run's holds through the biphasic FE: one document, each step's points inside
 // its recording window, the measured T next to a predicted T or a reason, never both missing.
 TEST_F(CliJson, CompareWaterTimeCourse) {
-  json_of("run protocol.toml --simulated --no-predict --clock-factor 20 --db lab.db --json");
+  json_of(
+      "run protocol.toml --simulated --sample analytic --no-predict --clock-factor 20 --db lab.db --json");
   const auto j = json_of("compare --db lab.db --run 1 --optics water --photons 500 --json");
   EXPECT_EQ(j["run"], 1);
   EXPECT_EQ(j["optics"], "water");
@@ -214,7 +216,8 @@ class SimlabProcess {
  public:
   explicit SimlabProcess(const fs::path& dir) : dir_(dir) {
     const std::string cmd = fmt::format(
-        "cd '{}' || exit 1; '{}' simlab --write-config lab.toml < /dev/null > simlab.log 2>&1 & echo $! > "
+        "cd '{}' || exit 1; '{}' simlab --sample analytic --write-config lab.toml < /dev/null > simlab.log "
+        "2>&1 & echo $! > "
         "simlab.pid",
         dir.string(), TOCDLAB_EXE);
     if (std::system(cmd.c_str()) != 0) return;

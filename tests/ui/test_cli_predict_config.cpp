@@ -75,9 +75,10 @@ class StoredConfig : public ::testing::Test {
 TEST_F(StoredConfig, RunPredictionReRunsFromTheDatabaseToTheSameT) {
   std::ofstream(dir_ / "p.toml") << kProtocol;
   const fs::path db = dir_ / "lab.db";
-  ASSERT_EQ(tocdlab(fmt::format("run {} --simulated --clock-factor 20 --photons 3000 --db {}",
-                                (dir_ / "p.toml").string(), db.string())),
-            0)
+  ASSERT_EQ(
+      tocdlab(fmt::format("run {} --simulated --sample analytic --clock-factor 20 --photons 3000 --db {}",
+                          (dir_ / "p.toml").string(), db.string())),
+      0)
       << err_;
 
   tocd::db::PredictionRecord stored;

@@ -1,9 +1,14 @@
 #include "backend_lab.hpp"
 
+#include <algorithm>
 #include <chrono>
 
 #include "background.hpp"
+#include "tocd/acquisition/lab_session.hpp"
+#include "tocd/acquisition/protocol.hpp"
 #include "tocd/devices/errors.hpp"
+#include "tocd/mocks/default_sample.hpp"
+#include "tocd/mocks/sim_tissue_cache.hpp"
 
 namespace tocd::gui {
 
@@ -18,6 +23,17 @@ InstrumentIdentity identity_of(InstrumentKind kind, const devices::Identity& id)
 }
 
 constexpr auto kPollPeriod = std::chrono::milliseconds(250);
+
+// The sample `tocdlab demo` measures (the demo protocol's thickness and deepest step), so the
+// window's demo and the command line's record the same sample; prepared once, then cached.
+std::shared_ptr<mocks::TissueModel> default_sample() {
+  const acquisition::Protocol demo = acquisition::demo_protocol();
+  double deepest = 0;
+  for (const auto& s : demo.steps) deepest = std::max(deepest, s.displacement_mm);
+  mocks::DefaultSampleOptions o;
+  o.cache_dir = mocks::default_sim_tissue_cache_dir();
+  return mocks::make_default_sample(demo.sample.thickness_mm, deepest, o);
+}
 
 }  // namespace
 
@@ -80,8 +96,9 @@ void LabBackend::connect_lab_file(const QString& path) {
 void LabBackend::connect_simulated(mocks::SimulatedLabOptions options) {
   disconnect_lab();
   tasks_->run<std::shared_ptr<Connected>>(
-      [this, options] {
+      [this, options]() mutable {
         auto c = std::make_shared<Connected>();
+        if (!options.tissue) options.tissue = default_sample();
         c->simulated = std::make_unique<mocks::SimulatedLab>(options);
         c->clock_factor = options.clock_factor;
         c->config = c->simulated->config();

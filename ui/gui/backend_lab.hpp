@@ -51,7 +51,9 @@ class LabBackend : public QObject {
   /// Parses the lab TOML and connects (ConfigError / DeviceError end in failed()).
   void connect_lab_file(const QString& path);
   /// Starts the simulated instruments in process (simulated time runs `clock_factor` fast)
-  /// and connects to them over their real protocols.
+  /// and connects to them over their real protocols. Without options.tissue the lab holds the
+  /// default sample `tocdlab demo` measures (tocd/mocks/default_sample.hpp; the first start
+  /// prepares it, minutes; later ones read it from the cache).
   void connect_simulated(mocks::SimulatedLabOptions options);
   void disconnect_lab();
 

@@ -3,13 +3,30 @@
 #include <QCoreApplication>
 #include <QDir>
 #include <QTemporaryDir>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "demo.hpp"
 #include "main_window.hpp"
 #include "simulation_view.hpp"
+#include "tocd/core/runtime_dir.hpp"
 #include "tocd/core/version.hpp"
+
+namespace {
+
+// Qt's xcb and wayland platforms abort the process when they find no display; an explicit
+// QT_QPA_PLATFORM (offscreen, vnc, ...) is the user's choice and is trusted.
+bool display_available() {
+  const auto set = [](const char* name) {
+    const char* v = std::getenv(name);
+    return v != nullptr && *v != '\0';
+  };
+  return set("QT_QPA_PLATFORM") || set("DISPLAY") || set("WAYLAND_DISPLAY");
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   QCommandLineParser cli;
@@ -53,6 +70,37 @@ int main(int argc, char** argv) {
       return 0;
     }
   }
+  // Values are checked here too, before a display is needed: a usage error is exit 2 with or
+  // without one.
+  bool number_ok = true;
+  const double clock_factor = cli.isSet(clock) ? cli.value(clock).toDouble(&number_ok) : 1.0;
+  if (!number_ok || !(clock_factor > 0) || !std::isfinite(clock_factor)) {
+    std::fprintf(stderr, "tocdlab-gui: usage error: --clock-factor must be a positive number, got '%s'\n",
+                 qPrintable(cli.value(clock)));
+    return 2;
+  }
+  const qulonglong photon_count = cli.isSet(photons) ? cli.value(photons).toULongLong(&number_ok) : 0;
+  if (!number_ok || (cli.isSet(photons) && photon_count == 0)) {
+    std::fprintf(stderr, "tocdlab-gui: usage error: --photons must be a positive whole number, got '%s'\n",
+                 qPrintable(cli.value(photons)));
+    return 2;
+  }
+  if (cli.isSet(screenshot) && !cli.isSet(demo)) {
+    std::fprintf(stderr, "tocdlab-gui: usage error: --screenshot needs --demo\n");
+    return 2;
+  }
+  tocd::ensure_runtime_dir();
+  if (!display_available()) {
+    if (!cli.isSet(screenshot)) {
+      std::fprintf(stderr,
+                   "tocdlab-gui: error: no display (neither DISPLAY nor WAYLAND_DISPLAY is set); run it in a "
+                   "desktop session, or save the demo as a picture without one: tocdlab-gui --demo "
+                   "--screenshot FILE.png\n");
+      return 1;
+    }
+    // A picture needs no screen: the demo renders offscreen.
+    qputenv("QT_QPA_PLATFORM", "offscreen");
+  }
 
   QApplication app(argc, argv);
   QApplication::setApplicationName(QStringLiteral("tocdlab"));
@@ -61,7 +109,7 @@ int main(int argc, char** argv) {
 
   tocd::gui::MainWindow window;
   if (cli.isSet(photons)) {
-    window.simulation_view()->set_photons(cli.value(photons).toULongLong());
+    window.simulation_view()->set_photons(photon_count);
   } else if (cli.isSet(demo)) {
     window.simulation_view()->set_photons(20000);  // enough for a picture, quick on two cores
   }
@@ -69,11 +117,7 @@ int main(int argc, char** argv) {
   // Real time: the demo protocol polls the tester at 1 kHz, and a faster clock asks that much
   // more of the loopback link while the window draws and the predictions run in the same
   // process (at x5 a busy machine kept up with 3,000 of the 5,000 readings a second).
-  lab.clock_factor = cli.isSet(clock) ? cli.value(clock).toDouble() : 1.0;
-  if (!(lab.clock_factor > 0)) {
-    std::fprintf(stderr, "tocdlab-gui: usage error: --clock-factor must be a positive number\n");
-    return 2;
-  }
+  lab.clock_factor = clock_factor;
   window.set_simulated_lab_options(lab);
   window.show();
   if (!cli.isSet(demo)) {

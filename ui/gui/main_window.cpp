@@ -17,6 +17,7 @@
 #include "run_view.hpp"
 #include "simulation_view.hpp"
 #include "tocd/core/version.hpp"
+#include "tocd/mocks/default_sample.hpp"
 
 namespace tocd::gui {
 
@@ -29,7 +30,7 @@ MainWindow::MainWindow(std::unique_ptr<GuiSettings> settings, QWidget* parent)
   sim_options_.clock_factor = settings_->clock_factor();
   // The simulated sample keeps clearing while a step holds, as `tocdlab demo`'s does: the power
   // chart shows T rising through each hold.
-  sim_options_.delayed_clearing = 0.3;
+  sim_options_.delayed_clearing = mocks::kDefaultDelayedClearing;
   lab_ = new LabBackend(this);
   run_ = new RunBackend(this);
   browser_ = new RunBrowserBackend(this);

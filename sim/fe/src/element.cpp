@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 
+#include "tocd/core/isa_dispatch.hpp"
 #include "tocd/sim/material/tensor.hpp"
 
 namespace tocd::sim::fe {
@@ -95,8 +96,14 @@ ElementReference make_element_reference(const Nodes& X, Kinematics k) {
   return ref;
 }
 
-bool element_response(const ElementReference& ref, const Nodes& x, Kinematics k,
-                      const mat::HyperelasticLaw& law, bool want_stiffness, ElementResponse& out) {
+namespace {
+
+// The element assembly of every Newton iteration. Its fixed-size Eigen products (B^T C B)
+// run in AVX2 or AVX-512 where the CPU has them: element_version has one version per ISA
+// level (tocd/core/isa_dispatch.hpp), each with this body inlined.
+[[gnu::always_inline]] inline bool element_body(const ElementReference& ref, const Nodes& x, Kinematics k,
+                                                const mat::HyperelasticLaw& law, bool want_stiffness,
+                                                ElementResponse& out) {
   out.energy = 0;
   out.force.setZero();
   if (want_stiffness) out.stiffness.setZero();
@@ -180,6 +187,29 @@ bool element_response(const ElementReference& ref, const Nodes& x, Kinematics k,
     if (want_stiffness) out.stiffness.noalias() += (u.d2U / V) * bv * bv.transpose() + u.dU * kv;
   }
   return std::isfinite(out.energy) && out.force.allFinite();
+}
+
+#if TOCD_ISA_VERSIONS
+TOCD_ISA_V4 bool element_version(const ElementReference& ref, const Nodes& x, Kinematics k,
+                                 const mat::HyperelasticLaw& law, bool want_stiffness, ElementResponse& out) {
+  return element_body(ref, x, k, law, want_stiffness, out);
+}
+TOCD_ISA_V3 bool element_version(const ElementReference& ref, const Nodes& x, Kinematics k,
+                                 const mat::HyperelasticLaw& law, bool want_stiffness, ElementResponse& out) {
+  return element_body(ref, x, k, law, want_stiffness, out);
+}
+#endif
+TOCD_ISA_BASE bool element_version(const ElementReference& ref, const Nodes& x, Kinematics k,
+                                   const mat::HyperelasticLaw& law, bool want_stiffness,
+                                   ElementResponse& out) {
+  return element_body(ref, x, k, law, want_stiffness, out);
+}
+
+}  // namespace
+
+bool element_response(const ElementReference& ref, const Nodes& x, Kinematics k,
+                      const mat::HyperelasticLaw& law, bool want_stiffness, ElementResponse& out) {
+  return element_version(ref, x, k, law, want_stiffness, out);
 }
 
 bool element_strain(const ElementReference& ref, const Nodes& x, Kinematics k,

@@ -113,6 +113,9 @@ double model_stress(FitModel m, const VectorXd& p, double lambda) {
   }
 }
 
+// Smallest difference between two exponents of one Ogden fit (Problem::admissible).
+constexpr double kMinExponentGap = 0.1;
+
 struct Problem {
   FitModel model;
   std::vector<double> lambda, target, weight;  // residual_k = weight_k (model - target)
@@ -124,8 +127,16 @@ struct Problem {
   }
   bool admissible(const VectorXd& p) const {
     if (!p.allFinite()) return false;
-    for (int i = 0; i < ogden_terms(model); ++i)
+    const int N = ogden_terms(model);
+    for (int i = 0; i < N; ++i) {
       if (std::abs(p[2 * i + 1]) < 1e-3 || std::abs(p[2 * i + 1]) > 60) return false;
+      // Two terms with (nearly) one exponent are one term and its derivative in alpha: huge mus
+      // of opposite sign that cancel (mu = +-931 MPa at alphas 4e-5 apart, on exact data of the
+      // published law) and fit rounding noise. Keeping the exponents apart keeps the terms
+      // distinct, as every published multi-term fit has them.
+      for (int j = 0; j < i; ++j)
+        if (std::abs(p[2 * i + 1] - p[2 * j + 1]) < kMinExponentGap) return false;
+    }
     return true;
   }
 };
@@ -137,7 +148,28 @@ struct LmOutcome {
   bool converged = false;
 };
 
-LmOutcome levenberg_marquardt(const Problem& pr, VectorXd p, int max_iterations) {
+// Stopping tests as MINPACK's lmder sets them (Moré, Garbow & Hillstrom 1980): the cost and the
+// parameters settled to about the square root of the machine precision, or the residual
+// orthogonal to every Jacobian column. Tighter tests than these only measure the noise of the
+// difference quotients: a fit to exact data then crawls along its valley until the iteration
+// limit and reports no convergence at R^2 = 1 - 1e-8.
+constexpr double kCostTolerance = 1e-10;     // relative decrease of the cost in one step
+constexpr double kStepTolerance = 1.5e-8;    // step relative to the parameters (sqrt of eps)
+constexpr double kGradientTolerance = 1e-8;  // cosine of the residual and a Jacobian column
+
+bool first_order_optimal(const Eigen::MatrixXd& J, const VectorXd& r, const VectorXd& g) {
+  const double rn = r.norm();
+  if (rn == 0) return true;
+  for (Eigen::Index j = 0; j < J.cols(); ++j) {
+    const double cn = J.col(j).norm();
+    if (cn > 0 && std::abs(g[j]) > kGradientTolerance * cn * rn) return false;
+  }
+  return true;
+}
+
+// P: residual(p) -> VectorXd and admissible(p) -> bool.
+template <class P>
+LmOutcome levenberg_marquardt(const P& pr, VectorXd p, int max_iterations) {
   LmOutcome out;
   if (!pr.admissible(p)) return out;
   VectorXd r = pr.residual(p);
@@ -156,6 +188,10 @@ LmOutcome levenberg_marquardt(const Problem& pr, VectorXd p, int max_iterations)
     }
     const Eigen::MatrixXd A = Jm.transpose() * Jm;
     const VectorXd g = Jm.transpose() * r;
+    if (first_order_optimal(Jm, r, g)) {
+      out.converged = true;
+      break;
+    }
     bool improved = false;
     for (int tries = 0; tries < 30 && !improved; ++tries) {
       Eigen::MatrixXd Ad = A;
@@ -172,9 +208,8 @@ LmOutcome levenberg_marquardt(const Problem& pr, VectorXd p, int max_iterations)
           cost = ct;
           damping = std::max(damping / 3, 1e-12);
           improved = true;
-          if (rel < 1e-12 || step.norm() < 1e-12 * (1 + p.norm())) {
+          if (rel < kCostTolerance || step.norm() < kStepTolerance * (kStepTolerance + p.norm())) {
             out.converged = true;
-            it = max_iterations;  // leave the outer loop
           }
           break;
         }
@@ -185,12 +220,55 @@ LmOutcome levenberg_marquardt(const Problem& pr, VectorXd p, int max_iterations)
       out.converged = true;  // no descent left at any damping: a (local) minimum
       break;
     }
+    if (out.converged) {
+      ++it;  // the step that settled it counts
+      break;
+    }
   }
   out.p = p;
   out.cost = cost;
   out.iterations = std::min(it, max_iterations);
   return out;
 }
+
+// The weighted least-squares mu_i of an Ogden model with exponents `alphas` (the stress is
+// linear in the mu_i once the alpha_i are fixed).
+VectorXd ogden_mus(const Problem& pr, const std::vector<double>& alphas) {
+  const auto N = static_cast<int>(alphas.size());
+  Eigen::MatrixXd A(pr.lambda.size(), N);
+  for (int j = 0; j < N; ++j)
+    for (std::size_t k = 0; k < pr.lambda.size(); ++k) {
+      OgdenParameters one{{1.0}, {alphas[static_cast<std::size_t>(j)]}, {}};
+      A(k, j) = pr.weight[k] * ogden_uniaxial_nominal_stress(one, pr.lambda[k]);
+    }
+  VectorXd b(pr.lambda.size());
+  for (std::size_t k = 0; k < pr.lambda.size(); ++k) b[k] = pr.weight[k] * pr.target[k];
+  return A.colPivHouseholderQr().solve(b);
+}
+
+// Variable projection (Golub & Pereyra 1973) for Ogden models: the mu_i are solved exactly for
+// each set of alpha_i and the search runs over the alphas alone. A law with nearly equal
+// alphas and large mus of opposite sign (the published skin law: alphas -3.9 ... -4.7, mus
+// -0.24 ... +0.12 MPa) is a long curved valley in the 2N parameters, along which a
+// Levenberg-Marquardt over all of them crawls for hundreds of iterations; over the N alphas
+// the same fit converges in a few dozen.
+struct ProjectedOgden {
+  const Problem& full;
+  VectorXd full_parameters(const VectorXd& alpha) const {
+    const std::vector<double> a(alpha.data(), alpha.data() + alpha.size());
+    const VectorXd mu = ogden_mus(full, a);
+    VectorXd p(2 * alpha.size());
+    for (Eigen::Index j = 0; j < alpha.size(); ++j) {
+      p[2 * j] = mu[j];
+      p[2 * j + 1] = alpha[j];
+    }
+    return p;
+  }
+  VectorXd residual(const VectorXd& alpha) const { return full.residual(full_parameters(alpha)); }
+  bool admissible(const VectorXd& alpha) const {
+    return alpha.allFinite() && full.admissible(full_parameters(alpha));
+  }
+};
 
 // Starting points: for Ogden models the mu_i solve a linear least-squares problem once the
 // alpha_i are fixed, so each start is a set of alphas with matching mus.
@@ -216,15 +294,7 @@ std::vector<VectorXd> starting_points(const Problem& pr) {
                                          : std::vector<double>{-10, -6, -3, -1.5, 1.5, 3, 6, 10};
   std::vector<int> idx(N);
   auto add = [&](const std::vector<double>& alphas) {
-    Eigen::MatrixXd A(pr.lambda.size(), N);
-    for (int j = 0; j < N; ++j)
-      for (std::size_t k = 0; k < pr.lambda.size(); ++k) {
-        OgdenParameters one{{1.0}, {alphas[j]}, {}};
-        A(k, j) = pr.weight[k] * ogden_uniaxial_nominal_stress(one, pr.lambda[k]);
-      }
-    VectorXd b(pr.lambda.size());
-    for (std::size_t k = 0; k < pr.lambda.size(); ++k) b[k] = pr.weight[k] * pr.target[k];
-    const VectorXd mu = A.colPivHouseholderQr().solve(b);
+    const VectorXd mu = ogden_mus(pr, alphas);
     VectorXd p(2 * N);
     for (int j = 0; j < N; ++j) {
       p[2 * j] = mu[j];
@@ -284,8 +354,18 @@ FitResult fit_uniaxial(const std::vector<double>& strain, const std::vector<doub
   for (double t : pr.target) pr.weight.push_back(1.0 / std::max(std::abs(t), 1e-2 * smax));
 
   LmOutcome best;
+  const int N = ogden_terms(model);
+  const ProjectedOgden projected{pr};
   for (const VectorXd& p0 : starting_points(pr)) {
-    LmOutcome o = levenberg_marquardt(pr, p0, options.max_iterations);
+    LmOutcome o;
+    if (N > 0) {
+      VectorXd alpha(N);
+      for (int j = 0; j < N; ++j) alpha[j] = p0[2 * j + 1];
+      o = levenberg_marquardt(projected, alpha, options.max_iterations);
+      if (std::isfinite(o.cost)) o.p = projected.full_parameters(o.p);
+    } else {
+      o = levenberg_marquardt(pr, p0, options.max_iterations);
+    }
     if (o.cost < best.cost) best = o;
   }
   if (!std::isfinite(best.cost))
@@ -296,7 +376,7 @@ FitResult fit_uniaxial(const std::vector<double>& strain, const std::vector<doub
   res.iterations = best.iterations;
   res.converged = best.converged;
   res.values.assign(best.p.data(), best.p.data() + best.p.size());
-  if (int N = ogden_terms(model)) {
+  if (N > 0) {
     for (int i = 0; i < N; ++i) {
       res.names.push_back(fmt::format("mu{}", i + 1));
       res.names.push_back(fmt::format("alpha{}", i + 1));

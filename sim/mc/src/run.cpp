@@ -6,6 +6,7 @@
 #include "tocd/sim/mc/run.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -14,6 +15,7 @@
 #include "exact_sum.hpp"
 #include "launcher.hpp"
 #include "tocd/core/clock.hpp"
+#include "tocd/core/isa_dispatch.hpp"
 #include "transport.hpp"
 
 namespace tocd::sim::mc {
@@ -115,6 +117,70 @@ std::vector<KernelOptics> kernel_optics(const PreparedMesh& mesh, const Optics& 
   return out;
 }
 
+// The photons of one batch, [first, last), and the run's sizes for progress reports.
+struct BatchRange {
+  std::uint64_t first, last;
+  std::uint64_t run_photons, member_photons;  // the whole run's, this team member's
+};
+
+// Shared by the threads of a run: photons done, and whether to stop (cancelled).
+struct BatchProgress {
+  std::atomic<std::uint64_t> done{0};
+  std::atomic<bool> stop{false};
+};
+
+// Everything a batch needs from its run.
+struct BatchJob {
+  const PreparedMesh& mesh;
+  const KernelOptics* kopt;
+  const KernelSettings& ks;
+  const Launcher& launcher;
+  const RunSettings& settings;
+  BatchRange range;
+  BatchProgress& progress;
+};
+
+// Transports the photons of one batch into `slot`. The whole photon loop, transport_batch
+// inlined, sits in this body so that each ISA version of run_batch holds the complete hot
+// path: a version of a thin wrapper around an out-of-line kernel would gain nothing.
+[[gnu::always_inline]] inline void run_batch_body(const BatchJob& job, BatchStore& slot) {
+  const RunSettings& settings = job.settings;
+  BatchProgress& progress = job.progress;
+  const std::uint64_t first = job.range.first, last = job.range.last, n = job.range.run_photons;
+  std::uint64_t photon = first;
+  auto next_photon = [&](PhotonRng& rng, Entry& entry) {
+    if (photon == last) return false;
+    if (((photon - first) & 1023u) == 0 && photon != first) {
+      progress.done.fetch_add(1024, std::memory_order_relaxed);
+      if (settings.cancel && settings.cancel->load(std::memory_order_relaxed)) progress.stop.store(true);
+      if (progress.stop.load(std::memory_order_relaxed)) return false;
+      // This member's share, scaled to the whole run: the others progress alike.
+      if (settings.progress && omp_get_thread_num() == 0)
+        settings.progress(std::min(n, progress.done.load() * n / job.range.member_photons), n);
+    }
+    rng = PhotonRng(settings.seed, photon);
+    entry = job.launcher.sample(rng);
+    ++photon;
+    ++slot.photons;
+    return true;
+  };
+  transport_batch(job.mesh.tets.data(), job.mesh.links.data(), job.kopt, job.ks, slot.tally, next_photon);
+}
+
+// The batch kernel for AVX-512, AVX2 and the baseline, picked when the program starts
+// (tocd/core/isa_dispatch.hpp).
+#if TOCD_ISA_VERSIONS
+TOCD_ISA_V4 void run_batch(const BatchJob& job, BatchStore& slot) {
+  run_batch_body(job, slot);
+}
+TOCD_ISA_V3 void run_batch(const BatchJob& job, BatchStore& slot) {
+  run_batch_body(job, slot);
+}
+#endif
+TOCD_ISA_BASE void run_batch(const BatchJob& job, BatchStore& slot) {
+  run_batch_body(job, slot);
+}
+
 void check_settings(const RunSettings& s) {
   if (s.photons == 0) throw tocd::ConfigError("photons must be > 0");
   if (s.batches < 2)
@@ -168,8 +234,8 @@ Tallies run_batches(const PreparedMesh& mesh, const Optics& optics, const Source
         std::lower_bound(layout.markers.begin(), layout.markers.end(), mesh.groups[g].marker) -
         layout.markers.begin());
   std::vector<BatchStore> slots(static_cast<std::size_t>(threads));
-  std::atomic<std::uint64_t> done{0};
-  std::atomic<bool> stop{false};
+  BatchProgress progress;
+  std::atomic<bool>& stop = progress.stop;
 
   for (int wave = first_batch; wave < last_batch && !stop.load(); wave += threads) {
     const int in_wave = std::min(threads, last_batch - wave);
@@ -177,25 +243,8 @@ Tallies run_batches(const PreparedMesh& mesh, const Optics& optics, const Source
     for (int i = 0; i < in_wave; ++i) {
       BatchStore& slot = slots[static_cast<std::size_t>(i)];
       slot.reset(nt, nr, ng);
-      const std::uint64_t first = batch_begin(wave + i), last = batch_begin(wave + i + 1);
-      std::uint64_t photon = first;
-      auto next_photon = [&](PhotonRng& rng, Entry& entry) {
-        if (photon == last) return false;
-        if (((photon - first) & 1023u) == 0 && photon != first) {
-          done.fetch_add(1024, std::memory_order_relaxed);
-          if (settings.cancel && settings.cancel->load(std::memory_order_relaxed)) stop.store(true);
-          if (stop.load(std::memory_order_relaxed)) return false;
-          // This member's share, scaled to the whole run: the others progress alike.
-          if (settings.progress && omp_get_thread_num() == 0)
-            settings.progress(std::min(n, done.load() * n / my_photons), n);
-        }
-        rng = PhotonRng(settings.seed, photon);
-        entry = launcher.sample(rng);
-        ++photon;
-        ++slot.photons;
-        return true;
-      };
-      transport_batch(mesh.tets.data(), mesh.links.data(), kopt.data(), ks, slot.tally, next_photon);
+      const BatchRange range{batch_begin(wave + i), batch_begin(wave + i + 1), n, my_photons};
+      run_batch(BatchJob{mesh, kopt.data(), ks, launcher, settings, range, progress}, slot);
     }
     if (stop.load()) break;  // a cancelled wave is incomplete: keep only whole batches
     for (int i = 0; i < in_wave; ++i) {

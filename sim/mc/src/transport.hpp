@@ -174,9 +174,13 @@ struct Packet {
 /// direction) that leaves most of the core idle; a second, independent chain fills it. The
 /// order of packets and of their random draws depends only on the batch, never on the thread
 /// that runs it, so results stay bitwise reproducible.
+/// Always inlined: its caller has ISA versions (run_batch, tocd/core/isa_dispatch.hpp), and
+/// each must hold the whole loop; left to the inliner, three callers make it too big to
+/// inline and every version would call one baseline copy.
 template <class NextPhoton>
-inline void transport_batch(const KernelTet* tets, const KernelLink* links, const KernelOptics* optics,
-                            const KernelSettings& s, BatchTally& tally, NextPhoton&& next_photon) {
+TOCD_MC_INLINE inline void transport_batch(const KernelTet* tets, const KernelLink* links,
+                                           const KernelOptics* optics, const KernelSettings& s,
+                                           BatchTally& tally, NextPhoton&& next_photon) {
   // Local copies: the compiler cannot keep tally fields in registers across stores
   // through the tally's arrays.
   double* const absorbed_per_tet = tally.absorbed_per_tet;

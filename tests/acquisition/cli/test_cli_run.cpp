@@ -1,4 +1,7 @@
-// `tocdlab run / runs / compare / export` end to end on the simulated lab.
+// `tocdlab run / runs / compare / export` end to end on the simulated lab. The runs use
+// `--sample analytic`: what is tested here (the engine, the commands, signals, files) does not
+// depend on the sample, and the analytic stand-in is ready at once (the default simulated
+// sample is prepared once by sample.default.prepare and measured by the demo tests).
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -151,9 +154,10 @@ class CliRun : public ::testing::Test {
 TEST_F(CliRun, RunsCompareExportOnTheSimulatedLab) {
   const auto p = write("p.toml", protocol(1.0));
   const auto db = dir_ / "lab.db";
-  ASSERT_EQ(tocdlab(fmt::format("run {} --simulated --clock-factor 20 --photons 3000 --db {}", p.string(),
-                                db.string())),
-            0)
+  ASSERT_EQ(
+      tocdlab(fmt::format("run {} --simulated --sample analytic --clock-factor 20 --photons 3000 --db {}",
+                          p.string(), db.string())),
+      0)
       << err_;
   // Progress and how the run ended on stderr; the table on stdout.
   EXPECT_NE(err_.find("step 3/3 recorded"), std::string::npos) << err_;
@@ -192,7 +196,9 @@ TEST_F(CliRun, MalformedProtocolNamesLineAndKeyAndCreatesNothing) {
   text.replace(text.find("record_s = 1"), 12, "record_s = \"one\"");
   const auto p = write("bad.toml", text);
   const auto db = dir_ / "lab.db";
-  EXPECT_EQ(tocdlab(fmt::format("run {} --simulated --no-predict --db {}", p.string(), db.string())), 1);
+  EXPECT_EQ(tocdlab(fmt::format("run {} --simulated --sample analytic --no-predict --db {}", p.string(),
+                                db.string())),
+            1);
   EXPECT_NE(err_.find("bad.toml:13: [steps] record_s: must be a number"), std::string::npos) << err_;
   EXPECT_FALSE(fs::exists(db));
 }
@@ -203,15 +209,17 @@ TEST_F(CliRun, NotADatabaseIsRefusedAndLeftAlone) {
   EXPECT_NE(err_.find("error"), std::string::npos);
   EXPECT_EQ(slurp(notdb), "these are my notes, not a database\n");
   const auto p = write("p.toml", protocol(1.0));
-  EXPECT_EQ(tocdlab(fmt::format("run {} --simulated --no-predict --db {}", p.string(), notdb.string())), 1);
+  EXPECT_EQ(tocdlab(fmt::format("run {} --simulated --sample analytic --no-predict --db {}", p.string(),
+                                notdb.string())),
+            1);
   EXPECT_EQ(slurp(notdb), "these are my notes, not a database\n");
 }
 
 TEST_F(CliRun, SigintAbortsGracefullyAndTheRunResumes) {
   const auto p = write("p.toml", protocol(60.0));  // long recording windows
   const auto db = dir_ / "lab.db";
-  const pid_t pid =
-      spawn({"run", p.string(), "--simulated", "--clock-factor", "5", "--db", db.string(), "--no-predict"});
+  const pid_t pid = spawn({"run", p.string(), "--simulated", "--sample", "analytic", "--clock-factor", "5",
+                           "--db", db.string(), "--no-predict"});
   ASSERT_GT(pid, 0);
   // Wait for the first step to be recording (5 x faster: approach, settle, hold take ~0.5 s).
   wait_for_output("recording into", 30.0);
@@ -230,9 +238,10 @@ TEST_F(CliRun, SigintAbortsGracefullyAndTheRunResumes) {
   }
   // --resume continues the same run; a shorter protocol is not needed: it redoes from step 1
   // at the clock of the other runs here (a faster one outruns a 200 Hz tester poller on a busy machine).
-  ASSERT_EQ(
-      tocdlab(fmt::format("run --resume 1 --simulated --no-predict --clock-factor 20 --db {}", db.string())),
-      0)
+  ASSERT_EQ(tocdlab(fmt::format(
+                "run --resume 1 --simulated --sample analytic --no-predict --clock-factor 20 --db {}",
+                db.string())),
+            0)
       << err_;
   EXPECT_NE(err_.find("run 1 completed"), std::string::npos) << err_;
   const tocd::db::Reader r(db);
@@ -243,8 +252,8 @@ TEST_F(CliRun, SigintAbortsGracefullyAndTheRunResumes) {
 TEST_F(CliRun, AKilledRunIsShownInterruptedByEveryReaderWithoutWritingTheFile) {
   const auto p = write("p.toml", protocol(60.0));
   const auto db = dir_ / "lab.db";
-  const pid_t pid =
-      spawn({"run", p.string(), "--simulated", "--clock-factor", "5", "--db", db.string(), "--no-predict"});
+  const pid_t pid = spawn({"run", p.string(), "--simulated", "--sample", "analytic", "--clock-factor", "5",
+                           "--db", db.string(), "--no-predict"});
   ASSERT_GT(pid, 0);
   wait_for_output("recording into", 30.0);
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
@@ -275,7 +284,8 @@ TEST_F(CliRun, ExitStatusIsNonZeroAndSaysHowManySamplesWereLostWhenTheFileCannot
   // no message), so writes past the limit fail as on a full disk.
   const int rc = tocdlab_in_shell(
       "ulimit -f 4096; ",
-      fmt::format("run {} --simulated --clock-factor 20 --no-predict --db {}", p.string(), db.string()));
+      fmt::format("run {} --simulated --sample analytic --clock-factor 20 --no-predict --db {}", p.string(),
+                  db.string()));
   EXPECT_EQ(rc, 1) << out_ << err_;
   EXPECT_NE(err_.find("sample(s) were lost and are not in"), std::string::npos) << err_;
   EXPECT_NE(err_.find("lost to failed database commits"), std::string::npos) << err_;
@@ -293,8 +303,8 @@ TEST_F(CliRun, SigintAfterTheLastStepCancelsThePredictionsAtOnce) {
   const auto p = write("p.toml", protocol(0.5));
   const auto db = dir_ / "lab.db";
   // 5 million photons a step: minutes of Monte Carlo on two cores.
-  const pid_t pid = spawn(
-      {"run", p.string(), "--simulated", "--clock-factor", "5", "--photons", "5000000", "--db", db.string()});
+  const pid_t pid = spawn({"run", p.string(), "--simulated", "--sample", "analytic", "--clock-factor", "5",
+                           "--photons", "5000000", "--db", db.string()});
   ASSERT_GT(pid, 0);
   ASSERT_TRUE(wait_for_output("step 3/3 recorded", 120.0)) << slurp(out_path());
   ASSERT_TRUE(wait_for_output("run 1 (3 steps)", 1.0));
@@ -324,8 +334,8 @@ TEST_F(CliRun, SigintAfterTheLastStepCancelsThePredictionsAtOnce) {
 TEST_F(CliRun, TwoSigintsDuringAStepWithAPredictionRunningEndAtOnce) {
   const auto p = write("p.toml", protocol(30.0));  // long windows: the signals meet step 2
   const auto db = dir_ / "lab.db";
-  const pid_t pid = spawn(
-      {"run", p.string(), "--simulated", "--clock-factor", "5", "--photons", "5000000", "--db", db.string()});
+  const pid_t pid = spawn({"run", p.string(), "--simulated", "--sample", "analytic", "--clock-factor", "5",
+                           "--photons", "5000000", "--db", db.string()});
   ASSERT_GT(pid, 0);
   ASSERT_TRUE(wait_for_output("step 1/3 recorded", 120.0)) << slurp(out_path());
   std::this_thread::sleep_for(std::chrono::milliseconds(500));  // step 2 under way, step 1 predicting
@@ -352,7 +362,9 @@ TEST_F(CliRun, TwoSigintsDuringAStepWithAPredictionRunningEndAtOnce) {
 TEST_F(CliRun, TooFewPhotonsForThePredictionsAreRefusedBeforeTheRun) {
   const auto p = write("p.toml", protocol(1.0));
   const auto db = dir_ / "lab.db";
-  EXPECT_EQ(tocdlab(fmt::format("run {} --simulated --photons 5 --db {}", p.string(), db.string())), 1);
+  EXPECT_EQ(tocdlab(fmt::format("run {} --simulated --sample analytic --photons 5 --db {}", p.string(),
+                                db.string())),
+            1);
   EXPECT_NE(err_.find("photons must be at least the 20 Monte Carlo batches"), std::string::npos) << err_;
   EXPECT_FALSE(fs::exists(db));
 }
@@ -361,8 +373,8 @@ TEST_F(CliRun, TooFewPhotonsForThePredictionsAreRefusedBeforeTheRun) {
 TEST_F(CliRun, OutputOnAFullDiskIsAnErrorAndLeavesNoFile) {
   const auto p = write("p.toml", protocol(0.5));
   const auto db = dir_ / "lab.db";
-  ASSERT_EQ(tocdlab(fmt::format("run {} --simulated --clock-factor 5 --no-predict --db {}", p.string(),
-                                db.string())),
+  ASSERT_EQ(tocdlab(fmt::format("run {} --simulated --sample analytic --clock-factor 5 --no-predict --db {}",
+                                p.string(), db.string())),
             0)
       << err_;
   for (const std::string& args :
@@ -391,8 +403,8 @@ TEST_F(CliRun, OutputOnAFullDiskIsAnErrorAndLeavesNoFile) {
 TEST_F(CliRun, ADamagedDatabaseIsRefusedBeforeAnythingMovesAndLeftAlone) {
   const auto p = write("p.toml", protocol(0.5));
   const auto db = dir_ / "lab.db";
-  ASSERT_EQ(tocdlab(fmt::format("run {} --simulated --clock-factor 5 --no-predict --db {}", p.string(),
-                                db.string())),
+  ASSERT_EQ(tocdlab(fmt::format("run {} --simulated --sample analytic --clock-factor 5 --no-predict --db {}",
+                                p.string(), db.string())),
             0)
       << err_;
   ASSERT_GT(fs::file_size(db), 16u * 4096u);
@@ -408,8 +420,8 @@ TEST_F(CliRun, ADamagedDatabaseIsRefusedBeforeAnythingMovesAndLeftAlone) {
     }
   }
   const std::string before = slurp(db);
-  EXPECT_EQ(tocdlab(fmt::format("run {} --simulated --clock-factor 5 --no-predict --db {}", p.string(),
-                                db.string())),
+  EXPECT_EQ(tocdlab(fmt::format("run {} --simulated --sample analytic --clock-factor 5 --no-predict --db {}",
+                                p.string(), db.string())),
             1);
   EXPECT_NE(err_.find("is damaged (SQLite quick_check"), std::string::npos) << err_;
   EXPECT_NE(err_.find("nothing was written to it"), std::string::npos) << err_;
@@ -424,8 +436,8 @@ TEST_F(CliRun, ControlCharactersInAStoredNameNeverReachTheTerminal) {
   text.replace(text.find("name = \"cli test\""), 17, R"(name = "red \u001B[31m then \u202Eevil")");
   const auto p = write("p.toml", text);
   const auto db = dir_ / "lab.db";
-  ASSERT_EQ(tocdlab(fmt::format("run {} --simulated --clock-factor 5 --no-predict --db {}", p.string(),
-                                db.string())),
+  ASSERT_EQ(tocdlab(fmt::format("run {} --simulated --sample analytic --clock-factor 5 --no-predict --db {}",
+                                p.string(), db.string())),
             0)
       << err_;
   const auto clean = [](const std::string& s) {

@@ -86,7 +86,7 @@ Soak run_soak(const fs::path& dir, bool full, int busy, int expected_steps) {
     const pid_t pid = ::fork();
     if (pid == 0) {
       const std::string cmd = fmt::format(
-          "exec '{}' run '{}' --simulated --clock-factor 1 --photons 20000 "
+          "exec '{}' run '{}' --simulated --sample analytic --clock-factor 1 --photons 20000 "
           "--db '{}' > '{}' 2>&1 < /dev/null",
           TOCDLAB_EXE, protocol.string(), db.string(), out.string());
       ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));

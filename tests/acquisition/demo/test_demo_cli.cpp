@@ -96,6 +96,48 @@ TEST(Demo, EveryStepMeasuredAndPredictedCsvMatchesDatabaseAndRunCanBeFitted) {
     EXPECT_EQ(table.status, "completed");
   }
 
+  // True time: the simulated lab's clock ran 4 times real time, yet every stored time is real
+  // UTC within the run's start and end (before, the last sample was stamped about three times
+  // the run's length after its end). The samples are read through the sample_series view, as
+  // pandas reads them; events and predictions through the reader.
+  {
+    const tocd::db::Reader reader(db);
+    const auto run = reader.run(1);
+    ASSERT_TRUE(run.ended_utc_ns.has_value());
+    const std::int64_t start = run.started_utc_ns, end = *run.ended_utc_ns;
+    EXPECT_DOUBLE_EQ(run.clock_factor, 4.0);
+    const auto anchors = reader.anchors(1);
+    std::size_t events = 0, predictions = 0;
+    for (const auto& e : reader.events(1)) {
+      const std::int64_t t = tocd::db::utc_ns(anchors, e.segment, e.t_ns);
+      EXPECT_GE(t, start) << e.kind << ": " << e.message;
+      EXPECT_LE(t, end) << e.kind << ": " << e.message;
+      ++events;
+    }
+    for (const auto& p : reader.predictions(1)) {
+      EXPECT_GE(p.created_utc_ns, start) << "prediction of step " << p.step_index + 1;
+      EXPECT_LE(p.created_utc_ns, end) << "prediction of step " << p.step_index + 1;
+      ++predictions;
+    }
+    EXPECT_GT(events, 7u);
+    EXPECT_EQ(predictions, 7u);
+    const std::string query = fmt::format(
+        "SELECT count(*), min(utc_ns) >= {0}, max(utc_ns) <= {1}, max(clock_s) > 3.5 * max(t_s) "
+        "FROM sample_series WHERE run_id = 1",
+        start, end);
+    const std::string cmd = fmt::format("sqlite3 -readonly -separator ' ' '{}' '{}' > '{}'", db, query,
+                                        (g_dir / "series").string());
+    ASSERT_EQ(std::system(cmd.c_str()), 0);
+    std::istringstream in(slurp(g_dir / "series"));
+    long samples = 0;
+    int after_start = 0, before_end = 0, clock_ahead = 0;
+    in >> samples >> after_start >> before_end >> clock_ahead;
+    EXPECT_GT(samples, 1000);
+    EXPECT_EQ(after_start, 1) << "a sample before the run started";
+    EXPECT_EQ(before_end, 1) << "a sample after the run ended";
+    EXPECT_EQ(clock_ahead, 1) << "clock_s: the run's own (4x) clock next to real time";
+  }
+
   // The recorded load/displacement feeds a material fit; an unknown run is a clear error.
   EXPECT_EQ(tocdlab(fmt::format("fit --db {} --run 1 --model ogden1", db)), 0) << g_out;
   EXPECT_NE(g_out.find("ogden1 fit to"), std::string::npos) << g_out;

@@ -153,7 +153,8 @@ class SimlabUnderLoad : public ::testing::Test {
     dir_ = fs::temp_directory_path() / ("tocd-simlab-load-" + std::to_string(::getpid()));
     fs::create_directories(dir_);
     lab_file_ = dir_ / "lab.toml";
-    simlab_ = spawn({TOCDLAB_EXE, "simlab", "--write-config", lab_file_.string()}, dir_ / "simlab.log");
+    simlab_ = spawn({TOCDLAB_EXE, "simlab", "--sample", "analytic", "--write-config", lab_file_.string()},
+                    dir_ / "simlab.log");
     ASSERT_GT(simlab_, 0);
     const auto until = Clock::now() + 20s;
     while (slurp(dir_ / "simlab.log").find("serving until") == std::string::npos) {

@@ -3,6 +3,7 @@
 // step predicted by the FE + Monte Carlo simulator, measured vs. predicted printed and written
 // as CSV. The simulated sample deliberately differs from the model's default tissue (stiffer,
 // strain-graded optics) so that the comparison is not circular.
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <limits>
@@ -18,6 +19,7 @@
 #include "output_paths.hpp"
 #include "progress.hpp"
 #include "run_progress.hpp"
+#include "sample_option.hpp"
 #include "tocd/acquisition/compare_table.hpp"
 #include "tocd/acquisition/engine.hpp"
 #include "tocd/acquisition/hold_clearing.hpp"
@@ -30,6 +32,7 @@
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/devices/lab.hpp"
+#include "tocd/mocks/default_sample.hpp"
 #include "tocd/mocks/sim_tissue.hpp"
 #include "tocd/mocks/sim_tissue_cache.hpp"
 #include "tocd/mocks/simulated_lab.hpp"
@@ -45,11 +48,11 @@ struct DemoOptions {
   std::string cache_dir = tocd::mocks::default_sim_tissue_cache_dir().string();
   bool no_cache = false;
   std::uint64_t photons = 100000;
-  std::uint64_t sample_photons = 50000;
+  std::uint64_t sample_photons = tocd::mocks::kDefaultSamplePhotons;
   std::uint64_t seed = 1;
   int threads = 0;
   double clock_factor = 2.0;
-  double delayed_clearing = 0.3;  // the share of clearing that waits for the water (simulated sample)
+  double delayed_clearing = tocd::mocks::kDefaultDelayedClearing;
   bool json = false;
 };
 
@@ -68,30 +71,15 @@ void run_demo(const DemoOptions& o) {
       o.csv.empty() ? std::filesystem::path(o.db).replace_extension(".csv").string() : o.csv;
 
   // 1. The simulated sample: FE load curve and Monte Carlo transmission at the protocol's steps.
-  tocd::mocks::SimTissueSpec spec;
-  spec.thickness_mm = protocol.sample.thickness_mm;
-  spec.displacements_mm.clear();
-  for (const auto& s : protocol.steps)
-    if (s.displacement_mm > 0) spec.displacements_mm.push_back(s.displacement_mm);
-  spec.photons = o.sample_photons;
-  spec.threads = o.threads;
-  if (!o.no_cache) spec.cache_dir = o.cache_dir;
+  cli::SampleChoice sample;
+  sample.photons = o.sample_photons;
+  sample.threads = o.threads;
+  sample.cache_dir = o.cache_dir;
+  sample.no_cache = o.no_cache;
+  double deepest = 0;
+  for (const auto& s : protocol.steps) deepest = std::max(deepest, s.displacement_mm);
   tocd::mocks::SimTissueTable table;
-  std::shared_ptr<tocd::mocks::TissueModel> tissue;
-  {
-    // Stages of the sample's preparation as notes above a bar over them (FE, then one Monte
-    // Carlo point per tabulated displacement plus the glass-only baseline).
-    cli::ProgressBar bar("simulated sample", spec.displacements_mm.size() + 3, "stages");
-    std::uint64_t stages = 0;
-    spec.progress = [&](const std::string& line) {
-      bar.note(line);
-      bar.update(++stages);
-    };
-    tissue = tocd::mocks::make_simulated_tissue(spec, &table);
-  }
-  if (!cli::progress_quiet())
-    std::cerr << fmt::format("simulated sample ready ({:.1f} s{})\n", table.seconds,
-                             table.from_cache ? ", from cache" : "");
+  const auto tissue = cli::prepare_sample(sample, protocol.sample.thickness_mm, deepest, &table);
   const auto log = tocd::logger("cli");
   const cli::PhaseTimer phases(*log, "demo");
   log->debug("demo: phase 'simulated sample' took {:.3f} s ({})", table.seconds,

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -33,6 +34,7 @@ struct PlotOptions {
   plot::FigureSize size;
   // slices
   std::vector<std::string> slice_files;
+  std::string slice_state;
   double decades = 6.0;
   // compare
   std::string db;
@@ -51,8 +53,28 @@ void wrote(const PlotOptions& o) {
   std::cerr << "tocdlab plot: wrote " << o.output << '\n';
 }
 
+// Standard error of each completed step's measured T: of the mean power over the recording
+// window, divided by the baseline power (readings taken as independent), as the database's
+// step_comparison view computes it. Keyed by step index; absent where it cannot be computed.
+std::map<int, double> measured_T_se(const tocd::db::Reader& reader, std::int64_t run_id) {
+  std::map<int, double> out;
+  std::int64_t power = 0;
+  for (const auto& ch : reader.channels(run_id))
+    if (ch.name == "power") power = ch.id;
+  const double baseline_W = reader.run(run_id).baseline_power_W;
+  if (power == 0 || !(baseline_W > 0)) return out;
+  for (const auto& s : reader.steps(run_id)) {
+    const auto* p = s.stats_for(power);
+    if (s.completed && p != nullptr && p->n > 1 && std::isfinite(p->std))
+      out[s.index] = p->std / std::sqrt(static_cast<double>(p->n)) / baseline_W;
+  }
+  return out;
+}
+
 plot::CompareFigure compare_figure(const PlotOptions& o) {
-  const auto table = tocd::acquisition::compare_table(tocd::db::Reader(o.db), o.run);
+  const tocd::db::Reader reader(o.db);
+  const auto table = tocd::acquisition::compare_table(reader, o.run);
+  const auto measured_se = measured_T_se(reader, o.run);
   plot::CompareFigure f;
   f.title = o.title.empty()
                 ? fmt::format("run {} ({}): measured vs. predicted T", table.run_id, table.run_name)
@@ -63,6 +85,8 @@ plot::CompareFigure compare_figure(const PlotOptions& o) {
     s.step = l.index;
     s.displacement_mm = l.displacement_mm;
     s.measured_T = l.completed ? l.measured_T : nan;
+    const auto se = measured_se.find(l.index);
+    s.measured_T_se = l.completed && se != measured_se.end() ? se->second : nan;
     s.predicted_T = l.has_prediction ? l.predicted_T : nan;
     s.predicted_T_se = l.has_prediction ? l.predicted_T_stderr : nan;
     f.steps.push_back(s);
@@ -156,12 +180,19 @@ void install_plot(CLI::App& root) {
   slices->add_option("slices", o->slice_files, "slice CSV files, drawn side by side on one colour scale")
       ->required()
       ->check(CLI::ExistingFile);
+  slices
+      ->add_option("--state", o->slice_state,
+                   "the JSON of the study or prediction that wrote the slices (study -o FILE.json, "
+                   "predict --json): the title states its displacement and strain")
+      ->check(CLI::ExistingFile);
   slices->add_option("--decades", o->decades, "decades of fluence the colour scale spans")
       ->check(cli::real_above(0.0, 30.0))
       ->capture_default_str();
   slices->callback([o] {
     plot::SliceFigure f;
     f.title = o->title;
+    if (f.title.empty() && !o->slice_state.empty())
+      f.title = plot::read_slice_state_title(o->slice_state, o->slice_files);
     f.decades = o->decades;
     for (const auto& path : o->slice_files) f.panels.push_back(plot::read_slice_csv(path));
     plot::write_figure(f, o->output, o->size);

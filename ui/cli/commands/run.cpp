@@ -1,5 +1,6 @@
 // `tocdlab run`: runs an experiment protocol on the lab's instruments (or the simulated lab)
 // and records it into a measurement database (docs/acquisition.md).
+#include <algorithm>
 #include <fstream>
 #include <iostream>
 #include <limits>
@@ -17,6 +18,7 @@
 #include "output_paths.hpp"
 #include "progress.hpp"
 #include "run_progress.hpp"
+#include "sample_option.hpp"
 #include "tocd/acquisition/compare_table.hpp"
 #include "tocd/acquisition/engine.hpp"
 #include "tocd/acquisition/lab_session.hpp"
@@ -26,6 +28,7 @@
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/devices/lab.hpp"
+#include "tocd/mocks/default_sample.hpp"
 #include "tocd/mocks/simulated_lab.hpp"
 #include "tocd/mocks/tissue.hpp"
 
@@ -37,6 +40,7 @@ struct RunOptions {
   std::string protocol, lab, db, operator_name;
   std::optional<std::int64_t> resume;
   bool simulated = false, no_predict = false, json = false;
+  cli::SampleChoice sample;  // --simulated: the simulated lab's sample
   double clock_factor = 1.0;
   std::uint64_t photons = 100000, seed = 1;
 };
@@ -96,7 +100,13 @@ void run_protocol(const RunOptions& o) {
     tocd::mocks::SimulatedLabOptions so;
     so.clock_factor = o.clock_factor;
     so.contact_position_mm = protocol.contact_position_mm;
-    so.tissue = tocd::mocks::make_analytic_tissue(protocol.sample.thickness_mm);
+    double deepest = 0;
+    for (const auto& s : protocol.steps) deepest = std::max(deepest, s.displacement_mm);
+    so.tissue = cli::prepare_sample(o.sample, protocol.sample.thickness_mm, deepest);
+    so.delayed_clearing = o.sample.kind == "simulated" ? tocd::mocks::kDefaultDelayedClearing : 0.0;
+    // As `tocdlab demo` sets up the lab, so the same protocol and seed measure the same.
+    so.source_power_W = protocol.baseline.power_W.value_or(so.source_power_W);
+    so.seed = o.seed;
     so.with_vacuum = protocol.kind == acq::StepKind::vacuum;
     sim = std::make_unique<tocd::mocks::SimulatedLab>(so);
     lab_cfg = sim->config();
@@ -193,6 +203,7 @@ void install_run(CLI::App& root) {
   cmd->add_option("protocol", o->protocol, "experiment protocol TOML (not needed with --resume)");
   cmd->add_option("--lab", o->lab, "lab config TOML: which instruments, where");
   cmd->add_flag("--simulated", o->simulated, "use the built-in simulated lab instead of --lab");
+  cli::add_sample_options(*cmd, o->sample);
   cmd->add_option("--db", o->db, "measurement database file (created when absent)")
       ->check(cli::output_file())
       ->required();
@@ -205,7 +216,7 @@ void install_run(CLI::App& root) {
   cmd->add_option("--photons", o->photons, "Monte Carlo photons per predicted step (FE + mesh + MC per step)")
       ->check(cli::whole_in(std::uint64_t{1}, cli::kMaxPhotons))
       ->capture_default_str();
-  cmd->add_option("--seed", o->seed, "random seed of the predictions")
+  cmd->add_option("--seed", o->seed, "random seed of the predictions (and of the simulated lab's noise)")
       ->check(cli::whole_in(std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max()))
       ->capture_default_str();
   cmd->add_flag("--no-predict", o->no_predict, "record only; no simulator prediction per step");

@@ -17,8 +17,10 @@
 #include "numeric_options.hpp"
 #include "output_naming.hpp"
 #include "output_paths.hpp"
+#include "sample_option.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/devices/lab.hpp"
+#include "tocd/mocks/default_sample.hpp"
 #include "tocd/mocks/simulated_lab.hpp"
 
 namespace cli = tocd::cli;
@@ -60,6 +62,8 @@ struct SimlabOptions {
   double clock_factor = 1.0, source_power_W = 1e-3, contact_mm = 1.0, thickness_mm = 2.5;
   std::uint64_t seed = 1;
   bool no_vacuum = false, no_power_meter = false;
+  double max_displacement_mm = tocd::mocks::kDefaultSampleMinReachMm;
+  cli::SampleChoice sample;
 };
 
 void run_simlab(const SimlabOptions& o) {
@@ -68,7 +72,8 @@ void run_simlab(const SimlabOptions& o) {
   opt.source_power_W = o.source_power_W;
   opt.contact_position_mm = o.contact_mm;
   opt.seed = o.seed;
-  opt.tissue = tocd::mocks::make_analytic_tissue(o.thickness_mm);
+  opt.tissue = cli::prepare_sample(o.sample, o.thickness_mm, o.max_displacement_mm);
+  if (o.sample.kind == "simulated") opt.delayed_clearing = tocd::mocks::kDefaultDelayedClearing;
   opt.with_vacuum = !o.no_vacuum;
   opt.with_power_meter = !o.no_power_meter;
   if (!o.config.empty()) {
@@ -127,6 +132,11 @@ void install_simlab(CLI::App& root) {
       ->capture_default_str();
   cmd->add_option("--seed", o->seed, "noise seed")
       ->check(cli::whole_in(std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max()))
+      ->capture_default_str();
+  cli::add_sample_options(*cmd, o->sample);
+  cmd->add_option("--max-displacement", o->max_displacement_mm,
+                  "deepest pin displacement the simulated sample is prepared for (mm; held beyond)")
+      ->check(cli::real_above(0.0, 100.0))
       ->capture_default_str();
   cmd->add_flag("--no-vacuum", o->no_vacuum, "no vacuum controller");
   cmd->add_flag("--no-power-meter", o->no_power_meter, "no power meter");

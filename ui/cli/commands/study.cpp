@@ -73,6 +73,14 @@ void run(const StudyOptions& o, const std::vector<st::StudyCase>& cases, int ref
                                                    : cli::to_naming_table_csv(st::to_csv(table)));
     cli::announce_file(as_json ? "table (JSON)" : "table (CSV)", o.output_path);
   }
+  if (!o.settings.fluence_dir.empty()) {
+    // The predictor wrote them as each simulation finished: say where, and how many.
+    std::size_t files = 0;
+    for (const auto& e : std::filesystem::directory_iterator(o.settings.fluence_dir))
+      files += e.is_regular_file() ? 1 : 0;
+    cli::announce_file("fluence files (slices CSV, mesh VTU/PVD)",
+                       fmt::format("{} ({} files)", o.settings.fluence_dir, files));
+  }
   if (o.json) {
     cli::print_json(st::to_json(table));
     return;

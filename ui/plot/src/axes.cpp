@@ -77,11 +77,12 @@ void draw_title(QPainter& p, const QRectF& figure, const QString& title) {
   p.save();
   QFont f = p.font();
   f.setBold(true);
-  f.setPointSizeF(f.pointSizeF() * 1.2);
+  f.setPixelSize(f.pixelSize() * 6 / 5);
   p.setFont(f);
   p.setPen(Qt::black);
-  p.drawText(QRectF(figure.left(), figure.top() + 8, figure.width(), 30), Qt::AlignHCenter | Qt::AlignTop,
-             title);
+  // Two lines at most above a chart that starts 50 px down: a long title wraps, not clips.
+  p.drawText(QRectF(figure.left() + 10, figure.top() + 6, figure.width() - 20, 42),
+             Qt::AlignHCenter | Qt::AlignTop | Qt::TextWordWrap, title);
   p.restore();
 }
 

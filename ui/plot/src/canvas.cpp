@@ -10,6 +10,7 @@
 #include <system_error>
 
 #include "tocd/core/error.hpp"
+#include "tocd/core/runtime_dir.hpp"
 
 namespace tocd::plot {
 
@@ -22,13 +23,13 @@ ImageFormat image_format_of(const std::filesystem::path& path) {
 }
 
 namespace detail {
-namespace {
 
 // Text needs Qt's font database, which needs a QGuiApplication. The offscreen platform is
 // forced: the figures are never shown, and a missing or unreachable display must not matter.
 void ensure_gui_application() {
   if (QCoreApplication::instance() != nullptr) return;
   qputenv("QT_QPA_PLATFORM", "offscreen");
+  ensure_runtime_dir();  // else Qt warns about XDG_RUNTIME_DIR on every figure as root
   static int argc = 1;
   static char name[] = "tocdlab";
   static char* argv[] = {name, nullptr};
@@ -36,7 +37,12 @@ void ensure_gui_application() {
   (void)app;
 }
 
-}  // namespace
+QFont figure_font() {
+  ensure_gui_application();
+  QFont f = QGuiApplication::font();
+  f.setPixelSize(12);
+  return f;
+}
 
 void render_to_file(const std::filesystem::path& path, FigureSize size,
                     const std::function<void(QPainter&)>& paint) {
@@ -55,6 +61,7 @@ void render_to_file(const std::filesystem::path& path, FigureSize size,
     {
       QPainter p(&image);
       p.setRenderHint(QPainter::Antialiasing, true);
+      p.setFont(figure_font());
       paint(p);
     }
     ok = image.save(qtmp, "PNG");
@@ -67,6 +74,7 @@ void render_to_file(const std::filesystem::path& path, FigureSize size,
     QPainter p;
     if (p.begin(&svg)) {
       p.fillRect(QRectF(0, 0, size.width, size.height), qcolour(kBackgroundColour));
+      p.setFont(figure_font());
       paint(p);
       ok = p.end();
     }

@@ -22,7 +22,6 @@ TornadoFigure parse_sensitivity_tornado(const std::string& json_text, const std:
                       ": not a sensitivity study's JSON (expected \"base\" and \"tornado\"; write one with "
                       "tocdlab study sensitivity --json > FILE)");
   TornadoFigure out;
-  out.x_label = "dT = T(variant) - T(base)";
   for (const auto& row : j["tornado"]) {
     const auto dT = row.find("dT");
     if (dT == row.end() || !dT->is_number())
@@ -34,10 +33,23 @@ TornadoFigure parse_sensitivity_tornado(const std::string& json_text, const std:
     out.errors.push_back(se != row.end() && se->is_number() ? se->get<double>() : NAN);
   }
   if (out.values.empty()) throw ConfigError(source + ": the tornado has no rows");
+  // The title names the quantity and the step the variants change: T of the base prediction
+  // at its displacement into its skin thickness (the nominal strain d / h), as its config says.
   const auto& base = j["base"];
-  out.title = base.contains("T") && base["T"].is_number()
-                  ? fmt::format("sensitivity of T = {:.4f} to the modelling choices", base["T"].get<double>())
-                  : std::string("sensitivity of T to the modelling choices");
+  std::string step = "one step";
+  if (base.contains("config") && base["config"].is_object()) {
+    const auto& c = base["config"];
+    const double d = c.value("displacement_mm", NAN), h = c.value("thickness_mm", NAN);
+    if (std::isfinite(d) && std::isfinite(h) && h > 0)
+      step = fmt::format("the {:g} mm step ({:g} mm skin, {:.0f} % strain)", d, h, 100.0 * d / h);
+  }
+  std::string T = "T";
+  if (base.contains("T") && base["T"].is_number())
+    T = base.contains("T_se") && base["T_se"].is_number()
+            ? fmt::format("T = {:.4f} \u00b1 {:.4f}", base["T"].get<double>(), base["T_se"].get<double>())
+            : fmt::format("T = {:.4f}", base["T"].get<double>());
+  out.title = fmt::format("sensitivity of the transmission at {}: base {}", step, T);
+  out.x_label = "dT = T(variant) - T(base)  (error bars: \u00b11 standard error)";
   return out;
 }
 

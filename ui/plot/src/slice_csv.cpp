@@ -33,6 +33,14 @@ double parse_number(std::string_view s, const std::string& source, int line, con
   return v;
 }
 
+// Shortest text that reads back as `v` to 6 digits (as the CSV writes its coordinates).
+std::string number_text(double v) {
+  std::ostringstream out;
+  out.precision(6);
+  out << (std::abs(v) < 1e-9 ? 0.0 : v);
+  return out.str();
+}
+
 std::vector<std::string_view> split(std::string_view line) {
   std::vector<std::string_view> out;
   std::size_t start = 0;
@@ -91,6 +99,9 @@ Slice parse_slice_csv(const std::string& text, const std::string& source) {
   const auto& v = values[axes[1]];
   Slice s;
   static constexpr std::array<const char*, 3> kNames{"x (mm)", "y (mm)", "z (mm)"};
+  // The plane: the coordinate that does not vary, as "z = 1 mm".
+  const int fixed = 3 - axes[0] - axes[1];
+  s.title = std::string(1, "xyz"[fixed]) + " = " + number_text(values[fixed].front()) + " mm";
   s.x_label = kNames[axes[0]];
   s.y_label = kNames[axes[1]];
   s.nx = static_cast<int>(u.size());
@@ -121,7 +132,7 @@ Slice read_slice_csv(const std::filesystem::path& path) {
   std::ostringstream text;
   text << in.rdbuf();
   Slice s = parse_slice_csv(text.str(), path.string());
-  s.title = path.stem().string();
+  s.title = path.stem().string() + " (" + s.title + ")";
   return s;
 }
 

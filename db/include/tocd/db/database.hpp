@@ -76,6 +76,9 @@ class Database {
   /// lock. Setting `running` is refused: use resume_run.
   void set_run_status(std::int64_t run_id, RunStatus status);
   void set_baseline_power(std::int64_t run_id, double baseline_power_W);
+  /// Moves the end of a run that has left `running` to now (its predictions landed after its
+  /// recording ended); a running run is left alone.
+  void mark_run_ended(std::int64_t run_id);
   /// Continues an `interrupted` or `aborted` run in the same run: status back to `running`,
   /// a new anchor segment, a "gap" event from the last recorded time to now. Refuses a
   /// completed run or one that is running. `clock_factor`: the resumed segment's clock rate
