@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "input_file.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/plot/inputs.hpp"
 
@@ -54,12 +55,8 @@ TornadoFigure parse_sensitivity_tornado(const std::string& json_text, const std:
 }
 
 TornadoFigure read_sensitivity_tornado(const std::filesystem::path& json_path) {
-  std::ifstream in(json_path, std::ios::binary);
-  if (!in || std::filesystem::is_directory(json_path))
-    throw ConfigError("cannot read sensitivity JSON '" + json_path.string() + "'");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_sensitivity_tornado(text.str(), json_path.string());
+  return parse_sensitivity_tornado(detail::read_input_file(json_path, "sensitivity JSON"),
+                                   json_path.string());
 }
 
 }  // namespace tocd::plot

@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "input_file.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/plot/inputs.hpp"
 
@@ -126,12 +127,7 @@ Slice parse_slice_csv(const std::string& text, const std::string& source) {
 }
 
 Slice read_slice_csv(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in || std::filesystem::is_directory(path))
-    throw ConfigError("cannot read slice file '" + path.string() + "'");
-  std::ostringstream text;
-  text << in.rdbuf();
-  Slice s = parse_slice_csv(text.str(), path.string());
+  Slice s = parse_slice_csv(detail::read_input_file(path, "slice file"), path.string());
   s.title = path.stem().string() + " (" + s.title + ")";
   return s;
 }

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "input_file.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/plot/inputs.hpp"
 
@@ -69,12 +70,8 @@ std::string slice_state_title(const std::string& json_text, const std::vector<st
 
 std::string read_slice_state_title(const std::filesystem::path& json_path,
                                    const std::vector<std::string>& slice_files) {
-  std::ifstream in(json_path, std::ios::binary);
-  if (!in || std::filesystem::is_directory(json_path))
-    throw ConfigError("cannot read the slices' state JSON '" + json_path.string() + "'");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return slice_state_title(text.str(), slice_files, json_path.string());
+  return slice_state_title(detail::read_input_file(json_path, "the slices' state JSON"), slice_files,
+                           json_path.string());
 }
 
 }  // namespace tocd::plot

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "input_file.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/plot/inputs.hpp"
 
@@ -116,12 +117,7 @@ BarFigure parse_study_bars(const std::string& json_text, const std::string& colu
 }
 
 BarFigure read_study_bars(const std::filesystem::path& json_path, const std::string& column) {
-  std::ifstream in(json_path, std::ios::binary);
-  if (!in || std::filesystem::is_directory(json_path))
-    throw ConfigError("cannot read study JSON '" + json_path.string() + "'");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_study_bars(text.str(), column, json_path.string());
+  return parse_study_bars(detail::read_input_file(json_path, "study JSON"), column, json_path.string());
 }
 
 }  // namespace tocd::plot
