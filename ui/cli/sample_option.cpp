@@ -57,4 +57,12 @@ std::shared_ptr<mocks::TissueModel> prepare_sample(const SampleChoice& choice, d
   return tissue;
 }
 
+std::shared_ptr<mocks::TissueModel> prepare_sample(const SampleChoice& choice,
+                                                   const acquisition::Protocol& protocol,
+                                                   mocks::SimTissueTable* table) {
+  double deepest = 0;
+  for (const auto& s : protocol.steps) deepest = std::max(deepest, s.displacement_mm);
+  return prepare_sample(choice, protocol.sample.thickness_mm, deepest, table);
+}
+
 }  // namespace tocd::cli

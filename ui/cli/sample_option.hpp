@@ -12,6 +12,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "tocd/acquisition/protocol.hpp"
 #include "tocd/mocks/default_sample.hpp"
 #include "tocd/mocks/sim_tissue.hpp"
 #include "tocd/mocks/tissue.hpp"
@@ -34,6 +35,10 @@ void add_sample_options(CLI::App& cmd, SampleChoice& choice);
 /// stderr; `table` (when given) receives its tables, time and cache entry.
 std::shared_ptr<mocks::TissueModel> prepare_sample(const SampleChoice& choice, double thickness_mm,
                                                    double max_displacement_mm,
+                                                   mocks::SimTissueTable* table = nullptr);
+/// The same for a protocol: its sample's thickness, down to its deepest step.
+std::shared_ptr<mocks::TissueModel> prepare_sample(const SampleChoice& choice,
+                                                   const acquisition::Protocol& protocol,
                                                    mocks::SimTissueTable* table = nullptr);
 
 }  // namespace tocd::cli

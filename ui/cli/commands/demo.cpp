@@ -76,10 +76,8 @@ void run_demo(const DemoOptions& o) {
   sample.threads = o.threads;
   sample.cache_dir = o.cache_dir;
   sample.no_cache = o.no_cache;
-  double deepest = 0;
-  for (const auto& s : protocol.steps) deepest = std::max(deepest, s.displacement_mm);
   tocd::mocks::SimTissueTable table;
-  const auto tissue = cli::prepare_sample(sample, protocol.sample.thickness_mm, deepest, &table);
+  const auto tissue = cli::prepare_sample(sample, protocol, &table);
   const auto log = tocd::logger("cli");
   const cli::PhaseTimer phases(*log, "demo");
   log->debug("demo: phase 'simulated sample' took {:.3f} s ({})", table.seconds,

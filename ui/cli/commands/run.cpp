@@ -100,9 +100,7 @@ void run_protocol(const RunOptions& o) {
     tocd::mocks::SimulatedLabOptions so;
     so.clock_factor = o.clock_factor;
     so.contact_position_mm = protocol.contact_position_mm;
-    double deepest = 0;
-    for (const auto& s : protocol.steps) deepest = std::max(deepest, s.displacement_mm);
-    so.tissue = cli::prepare_sample(o.sample, protocol.sample.thickness_mm, deepest);
+    so.tissue = cli::prepare_sample(o.sample, protocol);
     so.delayed_clearing = o.sample.kind == "simulated" ? tocd::mocks::kDefaultDelayedClearing : 0.0;
     // As `tocdlab demo` sets up the lab, so the same protocol and seed measure the same.
     so.source_power_W = protocol.baseline.power_W.value_or(so.source_power_W);
