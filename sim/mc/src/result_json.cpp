@@ -27,6 +27,11 @@ nlohmann::json to_json(const Result& r) {
   for (const auto& [m, e] : r.exit_by_marker) markers[std::to_string(m)] = estimate(e);
   auto& regions = j["absorbed_by_region"] = nlohmann::json::object();
   for (const auto& [id, e] : r.absorbed_by_region) regions[std::to_string(id)] = estimate(e);
+  if (!r.transmittance_derivatives.empty()) {  // only when the run computed them
+    auto& d = j["transmittance_derivatives"] = nlohmann::json::object();
+    for (const auto& [id, e] : r.transmittance_derivatives)
+      d[std::to_string(id)] = {{"dT_dmu_a_mm", estimate(e.dT_dmu_a)}, {"dT_dmu_s_mm", estimate(e.dT_dmu_s)}};
+  }
   j["energy_balance_error"] = r.energy_balance_error;
   j["events"] = r.events;
   j["face_hits"] = r.face_hits;

@@ -25,39 +25,55 @@ namespace {
 struct BatchStore {
   std::vector<double, HugePageAllocator<double>> per_tet;  // randomly hit: huge pages
   std::vector<double> per_region, per_group;
+  std::vector<double> dT_dmu_a, dT_dmu_s, path_scratch;  // transmittance derivatives only
   BatchTally tally{};
   std::uint64_t photons = 0;
 
-  void reset(std::size_t nt, std::size_t nr, std::size_t ng) {
+  // `transmittance_group`: per boundary group, 1 where exits count as transmittance; null
+  // when the run does not ask for derivatives.
+  void reset(std::size_t nt, std::size_t nr, std::size_t ng, const std::uint8_t* transmittance_group) {
     per_tet.assign(nt, 0.0);
     per_region.assign(nr, 0.0);
     per_group.assign(ng, 0.0);
     tally = BatchTally{nt ? per_tet.data() : nullptr, per_region.data(), per_group.data()};
+    if (transmittance_group) {
+      dT_dmu_a.assign(nr, 0.0);
+      dT_dmu_s.assign(nr, 0.0);
+      path_scratch.assign(2 * nr * kPacketsInFlight, 0.0);
+      tally.dT_dmu_a_per_region = dT_dmu_a.data();
+      tally.dT_dmu_s_per_region = dT_dmu_s.data();
+      tally.transmittance_group = transmittance_group;
+      tally.path_scratch = path_scratch.data();
+      tally.regions = static_cast<std::int32_t>(nr);
+    }
     photons = 0;
   }
 };
 
 // Where each tallied quantity sits in a run's exact tallies. A quantity estimated from batch
 // totals x_b takes two fixed-point numbers: sum_b x_b and sum_b x_b^2 / n_b. After them come
-// plain integer counts.
+// plain integer counts. With transmittance derivatives, dT/dmu_a and dT/dmu_s per region
+// follow the per-tet quantities.
 struct TallyLayout {
   static constexpr int kPerQuantity = 2 * kExactLimbs;
   enum Scalar { specular, missed, roulette, lost, bottom, top, sides, absorbed, kScalars };
   enum Count { launched, batches, events, face_hits, cancelled, kCounts };
-  std::vector<std::int32_t> markers;  // ascending
-  std::size_t nr = 0, nt = 0;
+  std::vector<std::int32_t> markers;   // ascending
+  std::size_t nr = 0, nt = 0, nd = 0;  // nd: regions with derivatives (0 or nr)
 
-  TallyLayout(const PreparedMesh& mesh, std::size_t regions, bool per_tet)
-      : nr(regions), nt(per_tet ? mesh.tets.size() : 0) {
+  TallyLayout(const PreparedMesh& mesh, std::size_t regions, bool per_tet, bool derivatives)
+      : nr(regions), nt(per_tet ? mesh.tets.size() : 0), nd(derivatives ? regions : 0) {
     for (const auto& g : mesh.groups) markers.push_back(g.marker);
     std::sort(markers.begin(), markers.end());
     markers.erase(std::unique(markers.begin(), markers.end()), markers.end());
   }
-  std::size_t quantities() const { return kScalars + markers.size() + nr + nt; }
+  std::size_t quantities() const { return kScalars + markers.size() + nr + nt + 2 * nd; }
   std::size_t scalar(int s) const { return static_cast<std::size_t>(s); }
   std::size_t marker(std::size_t i) const { return kScalars + i; }
   std::size_t region(std::size_t r) const { return kScalars + markers.size() + r; }
   std::size_t tet(std::size_t kt) const { return kScalars + markers.size() + nr + kt; }
+  std::size_t dT_dmu_a(std::size_t r) const { return kScalars + markers.size() + nr + nt + r; }
+  std::size_t dT_dmu_s(std::size_t r) const { return kScalars + markers.size() + nr + nt + nd + r; }
   std::size_t count(int c) const { return quantities() * kPerQuantity + static_cast<std::size_t>(c); }
   std::size_t words() const { return quantities() * kPerQuantity + kCounts; }
 };
@@ -143,6 +159,7 @@ struct BatchJob {
 // Transports the photons of one batch into `slot`. The whole photon loop, transport_batch
 // inlined, sits in this body so that each ISA version of run_batch holds the complete hot
 // path: a version of a thin wrapper around an out-of-line kernel would gain nothing.
+template <bool kDerivatives>
 [[gnu::always_inline]] inline void run_batch_body(const BatchJob& job, BatchStore& slot) {
   const RunSettings& settings = job.settings;
   BatchProgress& progress = job.progress;
@@ -164,21 +181,30 @@ struct BatchJob {
     ++slot.photons;
     return true;
   };
-  transport_batch(job.mesh.tets.data(), job.mesh.links.data(), job.kopt, job.ks, slot.tally, next_photon);
+  transport_batch<kDerivatives>(job.mesh.tets.data(), job.mesh.links.data(), job.kopt, job.ks, slot.tally,
+                                next_photon);
+}
+
+// Both kernels, plain and with the derivative records, in every ISA version.
+[[gnu::always_inline]] inline void run_batch_either(const BatchJob& job, BatchStore& slot) {
+  if (job.settings.transmittance_derivatives)
+    run_batch_body<true>(job, slot);
+  else
+    run_batch_body<false>(job, slot);
 }
 
 // The batch kernel for AVX-512, AVX2 and the baseline, picked when the program starts
 // (tocd/core/isa_dispatch.hpp).
 #if TOCD_ISA_VERSIONS
 TOCD_ISA_V4 void run_batch(const BatchJob& job, BatchStore& slot) {
-  run_batch_body(job, slot);
+  run_batch_either(job, slot);
 }
 TOCD_ISA_V3 void run_batch(const BatchJob& job, BatchStore& slot) {
-  run_batch_body(job, slot);
+  run_batch_either(job, slot);
 }
 #endif
 TOCD_ISA_BASE void run_batch(const BatchJob& job, BatchStore& slot) {
-  run_batch_body(job, slot);
+  run_batch_either(job, slot);
 }
 
 void check_settings(const RunSettings& s) {
@@ -214,7 +240,7 @@ Tallies run_batches(const PreparedMesh& mesh, const Optics& optics, const Source
                           source.entry_specular,
                           {mesh.origin[0], mesh.origin[1], mesh.origin[2]}};
 
-  const TallyLayout layout(mesh, kopt.size(), settings.tally_per_tet);
+  const TallyLayout layout(mesh, kopt.size(), settings.tally_per_tet, settings.transmittance_derivatives);
   const std::size_t nt = layout.nt, nr = kopt.size(), ng = mesh.groups.size();
   const int batches = settings.batches;
   const int mine = last_batch - first_batch;
@@ -233,6 +259,10 @@ Tallies run_batches(const PreparedMesh& mesh, const Optics& optics, const Source
     marker_slot[g] = static_cast<std::size_t>(
         std::lower_bound(layout.markers.begin(), layout.markers.end(), mesh.groups[g].marker) -
         layout.markers.begin());
+  std::vector<std::uint8_t> transmittance_group(ng);
+  for (std::size_t g = 0; g < ng; ++g) transmittance_group[g] = mesh.groups[g].side == Side::bottom ? 1 : 0;
+  const std::uint8_t* derivative_groups =
+      settings.transmittance_derivatives ? transmittance_group.data() : nullptr;
   std::vector<BatchStore> slots(static_cast<std::size_t>(threads));
   BatchProgress progress;
   std::atomic<bool>& stop = progress.stop;
@@ -242,7 +272,7 @@ Tallies run_batches(const PreparedMesh& mesh, const Optics& optics, const Source
 #pragma omp parallel for num_threads(threads) schedule(static, 1)
     for (int i = 0; i < in_wave; ++i) {
       BatchStore& slot = slots[static_cast<std::size_t>(i)];
-      slot.reset(nt, nr, ng);
+      slot.reset(nt, nr, ng, derivative_groups);
       const BatchRange range{batch_begin(wave + i), batch_begin(wave + i + 1), n, my_photons};
       run_batch(BatchJob{mesh, kopt.data(), ks, launcher, settings, range, progress}, slot);
     }
@@ -255,6 +285,10 @@ Tallies run_batches(const PreparedMesh& mesh, const Optics& optics, const Source
       add(layout.scalar(TallyLayout::roulette), b.tally.roulette);
       add(layout.scalar(TallyLayout::lost), b.tally.lost);
       for (std::size_t t = 0; t < nt; ++t) add(layout.tet(t), b.per_tet[t]);
+      for (std::size_t r = 0; r < layout.nd; ++r) {
+        add(layout.dT_dmu_a(r), b.dT_dmu_a[r]);
+        add(layout.dT_dmu_s(r), b.dT_dmu_s[r]);
+      }
       // Sides, markers and total absorption are combined per batch so that their standard
       // errors come from batch totals too.
       double side_sum[3] = {0.0, 0.0, 0.0}, absorbed_sum = 0.0;
@@ -290,7 +324,7 @@ Tallies run_batches(const PreparedMesh& mesh, const Optics& optics, const Source
 Result finish(const PreparedMesh& mesh, const Optics& optics, const RunSettings& settings,
               const Tallies& tallies) {
   const std::vector<KernelOptics> kopt = kernel_optics(mesh, optics, settings);
-  const TallyLayout layout(mesh, kopt.size(), settings.tally_per_tet);
+  const TallyLayout layout(mesh, kopt.size(), settings.tally_per_tet, settings.transmittance_derivatives);
   if (tallies.words.size() != layout.words())
     throw tocd::Error(fmt::format("Monte Carlo tallies of {} words do not fit this run ({} expected)",
                                   tallies.words.size(), layout.words()));
@@ -317,6 +351,8 @@ Result finish(const PreparedMesh& mesh, const Optics& optics, const RunSettings&
     res.exit_by_marker[layout.markers[m]] = est(layout.marker(m));
   for (std::size_t r = 0; r < layout.nr; ++r)
     res.absorbed_by_region[mesh.region_ids[r]] = est(layout.region(r));
+  for (std::size_t r = 0; r < layout.nd; ++r)
+    res.transmittance_derivatives[mesh.region_ids[r]] = {est(layout.dT_dmu_a(r)), est(layout.dT_dmu_s(r))};
   const std::size_t nt = layout.nt;
   if (nt > 0) {
     res.absorbed_per_tet.resize(nt);

@@ -40,6 +40,15 @@ struct BatchTally {
   double* absorbed_per_tet;
   double* absorbed_per_region;
   double* exit_per_group;
+  // Transmittance derivatives (read only by the kernel's derivative version): per region
+  // slot, sum of w * dlog(w)/dmu_a and w * dlog(w)/dmu_s over the packets that exit through
+  // a transmittance face; which boundary groups those are; and scratch for the path records
+  // of the packets in flight (kPacketsInFlight * 2 * regions doubles).
+  double* dT_dmu_a_per_region = nullptr;
+  double* dT_dmu_s_per_region = nullptr;
+  const std::uint8_t* transmittance_group = nullptr;
+  double* path_scratch = nullptr;
+  std::int32_t regions = 0;
   double specular = 0.0, missed = 0.0, roulette = 0.0, lost = 0.0;
   std::uint64_t events = 0;
   std::uint64_t face_hits = 0;
@@ -154,7 +163,19 @@ inline void refract(double* u, const double* m, double eta, double cos_i, double
 /// one on the skin slab benchmark; three or four add nothing measurable.
 inline constexpr int kPacketsInFlight = 2;
 
+/// What a packet records for the transmittance derivatives: per region slot, the path length
+/// travelled (mm) and the number of interactions (scattering events). Empty when the run
+/// does not ask for derivatives, so the plain kernel carries nothing extra.
+template <bool kRecordPaths>
+struct PathRecord {
+  double* length;
+  double* scatters;
+};
+template <>
+struct PathRecord<false> {};
+
 /// One packet in flight.
+template <bool kRecordPaths = false>
 struct Packet {
   double p[3], u[3];  // kernel coordinates; unit direction
   double w;           // weight
@@ -162,6 +183,7 @@ struct Packet {
   std::int32_t tet;
   std::uint64_t steps;
   PhotonRng rng;
+  [[no_unique_address]] PathRecord<kRecordPaths> path;
 };
 
 /// Transports the packets of one batch from entry to termination (leaving the mesh, dying in
@@ -177,7 +199,12 @@ struct Packet {
 /// Always inlined: its caller has ISA versions (run_batch, tocd/core/isa_dispatch.hpp), and
 /// each must hold the whole loop; left to the inliner, three callers make it too big to
 /// inline and every version would call one baseline copy.
-template <class NextPhoton>
+///
+/// kDerivatives: each packet also records its path length and interactions per region, and a
+/// packet leaving through a transmittance face scores the derivatives of its weight (see
+/// score_derivatives below). No random draw depends on it: the histories, and every other
+/// tally, are bitwise those of the plain kernel.
+template <bool kDerivatives = false, class NextPhoton>
 TOCD_MC_INLINE inline void transport_batch(const KernelTet* tets, const KernelLink* links,
                                            const KernelOptics* optics, const KernelSettings& s,
                                            BatchTally& tally, NextPhoton&& next_photon) {
@@ -188,6 +215,34 @@ TOCD_MC_INLINE inline void transport_batch(const KernelTet* tets, const KernelLi
   double* const exit_per_group = tally.exit_per_group;
   double roulette = 0.0, lost = 0.0, specular = 0.0, missed = 0.0;
   std::uint64_t events = 0, face_hits = 0;
+  using Packet = mc::Packet<kDerivatives>;
+  [[maybe_unused]] const std::int32_t regions = tally.regions;
+
+  // Perturbation Monte Carlo of the transmittance. The kernel weights by the albedo: free
+  // paths are sampled with mu_t (density mu_t^k_r exp(-mu_t L_r) for k_r interactions and
+  // path length L_r in region r), and each interaction keeps the fraction mu_s/mu_t of the
+  // weight. The product weight x density of an exiting history is thus
+  //   prod_r mu_s,r^k_r exp(-(mu_a,r + mu_s,r) L_r) x (factors free of mu_a and mu_s),
+  // and reweighting the same history to other coefficients multiplies its weight by the
+  // ratio of those products. Its derivative at the sampled coefficients is the score
+  //   dw/dmu_a,r = -w L_r,   dw/dmu_s,r = w (k_r / mu_s,r - L_r).
+  // Ballistic regions absorb continuously (w *= exp(-mu_a L) along the straight flight) and
+  // do not scatter at all, so their weight depends on mu_a alone: dw/dmu_a = -w L_r and
+  // dw/dmu_s = 0 (the model neglects their scattering). Fresnel splits, the entry and the
+  // phase function do not depend on mu_a or mu_s; roulette keeps the expected weight for any
+  // weight, so the scores stay unbiased with it.
+  [[maybe_unused]] auto score_derivatives = [&](const Packet& ph) TOCD_MC_INLINE {
+    if constexpr (kDerivatives) {
+      for (std::int32_t r = 0; r < regions; ++r) {
+        const double len = ph.path.length[r];
+        if (len == 0.0) continue;  // never entered the region
+        tally.dT_dmu_a_per_region[r] -= ph.w * len;
+        const KernelOptics& o = optics[r];
+        if (!o.ballistic && o.mu_s > 0.0)
+          tally.dT_dmu_s_per_region[r] += ph.w * (ph.path.scatters[r] / o.mu_s - len);
+      }
+    }
+  };
 
   auto deposit = [&](std::int32_t t, std::int32_t slot, double dep) TOCD_MC_INLINE {
     if (absorbed_per_tet) absorbed_per_tet[t] += dep;
@@ -229,6 +284,9 @@ TOCD_MC_INLINE inline void transport_batch(const KernelTet* tets, const KernelLi
     }
     if (s.ambient_n != n2) detail::refract(ph.u, m, s.ambient_n / n2, cos_i, cos_t);
     enter_tet(ph.tet);
+    if constexpr (kDerivatives) {
+      for (std::int32_t q = 0; q < regions; ++q) ph.path.length[q] = ph.path.scatters[q] = 0.0;
+    }
     ph.tau = -detail::log_unit(ph.rng.uniform());
     return true;
   };
@@ -250,6 +308,10 @@ TOCD_MC_INLINE inline void transport_batch(const KernelTet* tets, const KernelLi
   // Returns false when the packet died in roulette.
   auto interact = [&](Packet& ph, const KernelLink& k, const KernelOptics& o, double dist) TOCD_MC_INLINE {
     for (int c = 0; c < 3; ++c) ph.p[c] += dist * ph.u[c];
+    if constexpr (kDerivatives) {
+      ph.path.length[k.region_slot] += dist;
+      ph.path.scatters[k.region_slot] += 1.0;
+    }
     const double dep = ph.w * o.absorb_fraction;
     deposit(ph.tet, k.region_slot, dep);
     ph.w -= dep;
@@ -300,6 +362,7 @@ TOCD_MC_INLINE inline void transport_batch(const KernelTet* tets, const KernelLi
       return false;
     }
     if (to_event < best) return interact(ph, link, o, to_event);  // round-off corner: inside after all
+    if constexpr (kDerivatives) ph.path.length[link.region_slot] += best;
     if (o.ballistic) {
       const double dep = ph.w * (1.0 - std::exp(-o.mu_a * best));
       deposit(ph.tet, link.region_slot, dep);
@@ -330,6 +393,9 @@ TOCD_MC_INLINE inline void transport_batch(const KernelTet* tets, const KernelLi
     }
     if (next < 0) {
       exit_per_group[-1 - next] += ph.w;
+      if constexpr (kDerivatives) {
+        if (tally.transmittance_group[-1 - next]) score_derivatives(ph);
+      }
       return false;
     }
     ph.tet = next;
@@ -348,6 +414,12 @@ TOCD_MC_INLINE inline void transport_batch(const KernelTet* tets, const KernelLi
   Packet packet[kPacketsInFlight];
   bool live[kPacketsInFlight];
   bool any = false;
+  if constexpr (kDerivatives) {
+    for (int i = 0; i < kPacketsInFlight; ++i) {
+      packet[i].path.length = tally.path_scratch + 2 * i * regions;
+      packet[i].path.scatters = packet[i].path.length + regions;
+    }
+  }
   for (int i = 0; i < kPacketsInFlight; ++i) {
     live[i] = launch(packet[i]);
     any = any || live[i];

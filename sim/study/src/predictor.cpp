@@ -246,6 +246,7 @@ Predictor::Staged Predictor::stage(const PredictionRequest& r) {
   s.threads = r.threads > 0 ? r.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   s.ambient_n = 1.0;
   s.tally_per_tet = !r.fluence_dir.empty();
+  s.transmittance_derivatives = r.transmittance_derivatives;
   s.progress = r.mc_progress;
   s.cancel = r.cancel.get();
   check_cancel(r, "after meshing");
@@ -267,6 +268,7 @@ void Predictor::complete(const PredictionRequest& r, Staged& st, const mc::Resul
   out.reflectance = res.reflectance.mean;
   out.absorbed = res.absorbed.mean;
   out.specular = res.specular.mean;
+  out.dT_dmu = res.transmittance_derivatives;  // empty unless requested
   out.mc = mc::to_json(res);
   out.mc["source"] = mc::describe(st.source);
   out.config["optics"] = optics_record(r);

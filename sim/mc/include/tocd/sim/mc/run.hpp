@@ -27,6 +27,11 @@ struct RunSettings {
   double roulette_threshold = 1e-4;  ///< packets lighter than this play Russian roulette...
   int roulette_chance = 10;          ///< ...surviving with probability 1/chance, weight x chance
   bool tally_per_tet = true;         ///< per-tet absorbed weight and fluence (with errors)
+  /// Also estimate dT/dmu_a and dT/dmu_s of every region by perturbation Monte Carlo (the
+  /// same histories reweighted; docs/mc.md, "Transmittance derivatives"): each packet records
+  /// its path length and scattering events per region. Off, the kernel does no extra work.
+  /// Either way the random stream, and every other tally, are the same bit for bit.
+  bool transmittance_derivatives = false;
   /// Checked between photons by every thread; set it to stop early (result.cancelled).
   const std::atomic<bool>* cancel = nullptr;
   /// Called from the master thread now and then with (photons done, photons asked); under
@@ -42,6 +47,13 @@ struct RunSettings {
 struct Estimate {
   double mean = 0.0;
   double se = 0.0;
+};
+
+/// Derivatives of the transmittance with respect to one region's coefficients, in mm (per
+/// mm^-1 of mu): means per launched photon with standard errors from the batch spread.
+struct TransmittanceDerivative {
+  Estimate dT_dmu_a;
+  Estimate dT_dmu_s;  ///< 0 for a ballistic region (its scattering is neglected)
 };
 
 /// Everything a run measures. Weights are fractions of launched weight (one per photon).
@@ -63,6 +75,8 @@ struct Result {
   Estimate lost;              ///< packets stopped by the step guard (numerically stuck); should be 0
   std::map<std::int32_t, Estimate> exit_by_marker;      ///< exits per boundary marker (0 = none)
   std::map<std::int32_t, Estimate> absorbed_by_region;  ///< per region id
+  /// Per region id, when RunSettings::transmittance_derivatives was set (else empty).
+  std::map<std::int32_t, TransmittanceDerivative> transmittance_derivatives;
 
   /// Per tet (empty when tally_per_tet is off): absorbed weight and fluence
   /// Phi = w_a / (V mu_a) in mm^-2 per launched weight (0 where mu_a = 0).

@@ -6,6 +6,7 @@
 #include <deque>
 #include <functional>
 #include <future>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -70,6 +71,11 @@ struct PredictionRequest {
   /// between Monte Carlo photons, and once it reads true throws tocd::Cancelled (a mesh that
   /// TetGen has begun is finished first). Not part of the config.
   std::shared_ptr<const std::atomic<bool>> cancel;
+  /// Also estimate dT/dmu_a and dT/dmu_s of every region by perturbation Monte Carlo
+  /// (Prediction::dT_dmu; mc::RunSettings::transmittance_derivatives). Not part of the config:
+  /// it adds estimates but never changes T or any other answer (the photon histories are the
+  /// same bit for bit), so predictions with and without it share their config and caches.
+  bool transmittance_derivatives = false;
 };
 
 struct Prediction {
@@ -86,6 +92,13 @@ struct Prediction {
   bool fe_cached = false, mesh_cached = false;  ///< taken from the predictor's caches
   nlohmann::json mc;                            ///< the Monte Carlo summary (mc::to_json)
   nlohmann::json fluence;                       ///< paths of the fluence files, when written
+  /// When the request asked for them: per region id of the step's mesh (the threshold
+  /// model's 1-5, or the graded levels kGradedRegionBase + k), dT/dmu_a and dT/dmu_s in mm of
+  /// the T above, the step's own (raw Monte Carlo) transmittance. For a T relative to the
+  /// glass-only baseline (T / T_baseline, as a run stores it) divide them by T_baseline: the
+  /// baseline holds no skin, so T_baseline does not depend on the skin's optics (it does on
+  /// the glass and air regions the two meshes share).
+  std::map<std::int32_t, mc::TransmittanceDerivative> dT_dmu;
 };
 
 /// Canonical config of a request (threads and fluence output excluded: they do not change
