@@ -1,5 +1,6 @@
 // Prints photons/s and scattering events/s for the two benchmark problems of the photon
-// Monte Carlo, with 1 thread and with 2 (or --threads N), after a warm-up run.
+// Monte Carlo, with 1 thread and with 2 (or --threads N), after a warm-up run; the skin slab
+// also with the transmittance derivatives on (RunSettings::transmittance_derivatives).
 //   mc_bench [--photons N] [--threads N] [--cells N]
 #include <algorithm>
 #include <cstdio>
@@ -52,7 +53,8 @@ msh::SlabSpec layered_slab(int cells) {
   return s;
 }
 
-void bench(const char* name, const msh::SlabSpec& spec, std::uint64_t photons, int threads) {
+void bench(const char* name, const msh::SlabSpec& spec, std::uint64_t photons, int threads,
+           bool derivatives = false) {
   const mc::PreparedMesh mesh = mc::prepare(msh::make_slab(spec));
   mc::Source beam;  // pencil straight down onto the centre, off the central node
   beam.origin = {0.0123, -0.0217, 10.0};
@@ -61,6 +63,7 @@ void bench(const char* name, const msh::SlabSpec& spec, std::uint64_t photons, i
   s.threads = threads;
   s.batches = 20;
   s.tally_per_tet = std::getenv("MC_NO_TET_TALLY") == nullptr;
+  s.transmittance_derivatives = derivatives;
   mc::run(mesh, optics(), beam, s);  // warm-up: page in the mesh, settle the clocks
   s.photons = photons;
   // CPU time as well as wall time: photons per CPU-second stays comparable on a busy machine.
@@ -100,6 +103,7 @@ int main(int argc, char** argv) {
   }
   for (int threads : {1, max_threads}) {
     bench("(a) skin slab", skin_slab(cells), photons, threads);
+    bench("(a) skin slab, dT/dmu", skin_slab(cells), photons, threads, true);
     bench("(b) air / skin / glass", layered_slab(cells), photons, threads);
   }
   return 0;
