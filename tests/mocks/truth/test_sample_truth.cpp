@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tocd/core/error.hpp"
+#include "tocd/core/version.hpp"
 #include "tocd/mocks/default_sample.hpp"
 #include "tocd/mocks/sample_truth.hpp"
 #include "tocd/mocks/sim_tissue.hpp"
@@ -42,6 +43,12 @@ TEST(SampleTruth, DefaultIsValidAndTheDefaultSample) {
   EXPECT_EQ(mocks::sim_tissue_cache_key(before), mocks::sim_tissue_cache_key(with));
   EXPECT_EQ(mocks::sim_tissue_cache_key(with).find("cleared"), std::string::npos);
   EXPECT_EQ(with.stiffness_scale, 1.25);
+  // The key of the entries cached before the truth was settable, written out.
+  EXPECT_EQ(
+      mocks::sim_tissue_cache_key(mocks::default_sample_spec(2.5, 1.5, {}, t)),
+      fmt::format("tocdlab simulated sample; format 1; tocdlab {}; thickness_mm 2.5; stiffness_scale 1.25; "
+                  "optics_model graded; photons 50000; seed 7; displacements_mm 0.25 0.5 0.75 1 1.25 1.5",
+                  tocd::version()));
 }
 
 TEST(SampleTruth, DrawIsDeterministicPerSeedAndInsideTheRanges) {
