@@ -34,6 +34,7 @@ cli::SampleChoice parse(std::vector<std::string> args, bool alias = false) {
 TEST(TruthOptions, NoneGivenIsTheDefaultSample) {
   const cli::SampleChoice c = parse({});
   EXPECT_FALSE(cli::truth_given(c));
+  EXPECT_EQ(cli::first_truth_option(c), nullptr);
   EXPECT_EQ(cli::sample_truth(c), mocks::SampleTruth{});
   const mocks::SimulatedLabOptions o = cli::simulated_lab_options(c);
   EXPECT_EQ(o.delayed_clearing, mocks::kDefaultDelayedClearing);
@@ -53,6 +54,9 @@ TEST(TruthOptions, EachOptionSetsItsField) {
 
 TEST(TruthOptions, SeedDrawsTheFieldsNotGiven) {
   const cli::SampleChoice c = parse({"--truth-seed", "42", "--truth-relaxation-time", "9"});
+  EXPECT_STREQ(cli::first_truth_option(c), "--truth-seed");
+  EXPECT_STREQ(cli::first_truth_option(parse({"--truth-delayed-clearing-time", "9"})),
+               "--truth-delayed-clearing-time");
   mocks::SampleTruth want = mocks::draw_sample_truth(42);
   want.relaxation_time_s = 9;
   EXPECT_EQ(cli::sample_truth(c), want);

@@ -88,11 +88,15 @@ void add_truth_options(CLI::App& cmd, SampleChoice& choice, bool delayed_clearin
   }
 }
 
+const char* first_truth_option(const SampleChoice& choice) {
+  if (choice.truth_seed) return mocks::kSampleTruthSeedOption;
+  for (std::size_t i = 0; i < choice.truth.size(); ++i)
+    if (choice.truth[i]) return mocks::kSampleTruthFields[i].option;
+  return nullptr;
+}
+
 bool truth_given(const SampleChoice& choice) {
-  if (choice.truth_seed) return true;
-  for (const auto& v : choice.truth)
-    if (v) return true;
-  return false;
+  return first_truth_option(choice) != nullptr;
 }
 
 mocks::SampleTruth sample_truth(const SampleChoice& choice) {

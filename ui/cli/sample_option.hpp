@@ -44,6 +44,8 @@ void add_sample_options(CLI::App& cmd, SampleChoice& choice);
 void add_truth_options(CLI::App& cmd, SampleChoice& choice, bool delayed_clearing_alias = false);
 /// Whether any truth option was given.
 bool truth_given(const SampleChoice& choice);
+/// The first truth option given (--truth-seed first, then in field order), or nullptr.
+const char* first_truth_option(const SampleChoice& choice);
 /// The sample's truth: drawn from the documented ranges with --truth-seed (else the default
 /// sample's), each field given on the command line over it. The analytic sample has no FE
 /// stiffness nor graded optics: with --sample analytic, --truth-seed and the stiffness and

@@ -63,9 +63,8 @@ void run_protocol(const RunOptions& o) {
   }
   if (o.simulated) {
     cli::sample_truth(o.sample);  // a bad combination is a usage error, before anything is opened
-  } else if (cli::truth_given(o.sample)) {
-    throw CLI::ValidationError("--truth-*",
-                               "the sample's truth only applies to the simulated lab (--simulated)");
+  } else if (const char* given = cli::first_truth_option(o.sample)) {
+    throw CLI::ValidationError(given, "the sample's truth only applies to the simulated lab (--simulated)");
   }
   if (o.resume && !o.protocol.empty()) {
     std::cerr << "note: --resume continues with the protocol stored in run " << *o.resume << "; "
