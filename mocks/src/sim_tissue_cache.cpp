@@ -74,6 +74,16 @@ std::string sim_tissue_cache_key(const SimTissueSpec& s) {
       "optics_model {}; photons {}; seed {}; displacements_mm",
       kCacheFormat, tocd::version(), s.thickness_mm, s.stiffness_scale, s.optics_model, s.photons, s.seed);
   for (double d : s.displacements_mm) key += fmt::format(" {:.17g}", d);
+  // The clearing (since the truth became settable): written only when it differs from the
+  // published one, so the keys of the default sample, and the entries cached before, stay valid.
+  const SimTissueSpec published;
+  if (s.cleared_mu_a_fraction != published.cleared_mu_a_fraction ||
+      s.cleared_mu_s_fraction != published.cleared_mu_s_fraction ||
+      s.cleared_n_fraction != published.cleared_n_fraction ||
+      s.full_clearing_strain != published.full_clearing_strain)
+    key += fmt::format(
+        "; cleared_fractions mu_a {:.17g} mu_s {:.17g} n {:.17g}; full_clearing_strain {:.17g}",
+        s.cleared_mu_a_fraction, s.cleared_mu_s_fraction, s.cleared_n_fraction, s.full_clearing_strain);
   return key;
 }
 

@@ -1,6 +1,8 @@
 // Every simulated instrument of the rig on its real transport, sharing one clock and one sample.
 #include "tocd/mocks/simulated_lab.hpp"
 
+#include <cmath>
+
 #include "tocd/core/error.hpp"
 #include "tocd/mocks/power_meter_twin.hpp"
 #include "tocd/mocks/sim_clock.hpp"
@@ -8,6 +10,15 @@
 #include "tocd/mocks/vacuum_twin.hpp"
 
 namespace tocd::mocks {
+
+SimulatedLabOptions simulated_lab_options(const SampleTruth& truth) {
+  SimulatedLabOptions o;
+  o.relaxation_fraction = truth.relaxation_fraction;
+  o.relaxation_time_s = truth.relaxation_time_s;
+  o.delayed_clearing = truth.delayed_clearing;
+  o.delayed_clearing_time_s = truth.delayed_clearing_time_s;
+  return o;
+}
 
 struct SimulatedLab::Impl {
   SimulatedLabOptions opt;
@@ -20,6 +31,12 @@ struct SimulatedLab::Impl {
 SimulatedLab::SimulatedLab(SimulatedLabOptions opt) : impl_(std::make_unique<Impl>()) {
   if (!opt.tissue) opt.tissue = make_analytic_tissue(2.5);
   if (!(opt.source_power_W >= 0.0)) throw ConfigError("simulated lab: source power must be >= 0 W");
+  if (!(opt.delayed_clearing >= 0.0 && opt.delayed_clearing <= 1.0))
+    throw ConfigError("simulated lab: delayed clearing must lie in [0, 1]");
+  if (!(opt.relaxation_fraction >= 0.0) || !std::isfinite(opt.relaxation_fraction))
+    throw ConfigError("simulated lab: relaxation fraction must be finite and >= 0");
+  if (!(opt.relaxation_time_s > 0.0) || !(opt.delayed_clearing_time_s > 0.0))
+    throw ConfigError("simulated lab: relaxation and delayed clearing times must be > 0 s");
   auto& s = *impl_;
   s.opt = opt;
   s.clock = std::make_shared<SimClock>(opt.clock_factor);
@@ -30,6 +47,9 @@ SimulatedLab::SimulatedLab(SimulatedLabOptions opt) : impl_(std::make_unique<Imp
   t.port = opt.tester_port;
   t.contact_position_mm = opt.contact_position_mm;
   t.seed = opt.seed;
+  t.relaxation_fraction = opt.relaxation_fraction;
+  t.relaxation_time_s = opt.relaxation_time_s;
+  t.delayed_clearing_time_s = opt.delayed_clearing_time_s;
   s.tester = std::make_unique<TesterTwin>(t);
 
   if (opt.with_vacuum) {

@@ -51,6 +51,10 @@ expect "mc --vtu-format TAB" "$(complete_words mc --vtu-format '')" "ascii binar
 expect "--log-level e TAB" "$(complete_words --log-level e)" "error"
 expect "mc --optics TAB" "$(complete_words mc --optics '')" "mesh.node notes.txt optics.toml"
 expect "mc --photons TAB" "$(complete_words mc --photons '')" ""
+expect "demo --truth-cleared-n TAB" "$(complete_words demo --truth-cleared-n '')" ""
+expect "demo --delayed-clearing TAB" "$(complete_words demo --delayed-clearing '')" ""
+expect "simlab --truth-seed TAB" "$(complete_words simlab --truth-seed '')" ""
+expect "run --truth-relax TAB" "$(complete_words run --truth-relax)" "--truth-relaxation-fraction --truth-relaxation-time"
 expect "study TAB" "$(complete_words study '')" "paper sensitivity sweep"
 expect "mc --vtu-f TAB" "$(complete_words mc --vtu-f)" "--vtu-format"
 [ "$failures" -eq 0 ]

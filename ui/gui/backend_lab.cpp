@@ -26,13 +26,13 @@ constexpr auto kPollPeriod = std::chrono::milliseconds(250);
 
 // The sample `tocdlab demo` measures (the demo protocol's thickness and deepest step), so the
 // window's demo and the command line's record the same sample; prepared once, then cached.
-std::shared_ptr<mocks::TissueModel> default_sample() {
+std::shared_ptr<mocks::TissueModel> default_sample(const mocks::SampleTruth& truth) {
   const acquisition::Protocol demo = acquisition::demo_protocol();
   double deepest = 0;
   for (const auto& s : demo.steps) deepest = std::max(deepest, s.displacement_mm);
   mocks::DefaultSampleOptions o;
   o.cache_dir = mocks::default_sim_tissue_cache_dir();
-  return mocks::make_default_sample(demo.sample.thickness_mm, deepest, o);
+  return mocks::make_default_sample(demo.sample.thickness_mm, deepest, truth, o);
 }
 
 }  // namespace
@@ -93,12 +93,12 @@ void LabBackend::connect_lab_file(const QString& path) {
       });
 }
 
-void LabBackend::connect_simulated(mocks::SimulatedLabOptions options) {
+void LabBackend::connect_simulated(mocks::SimulatedLabOptions options, const mocks::SampleTruth& truth) {
   disconnect_lab();
   tasks_->run<std::shared_ptr<Connected>>(
-      [this, options]() mutable {
+      [this, options, truth]() mutable {
         auto c = std::make_shared<Connected>();
-        if (!options.tissue) options.tissue = default_sample();
+        if (!options.tissue) options.tissue = default_sample(truth);
         c->simulated = std::make_unique<mocks::SimulatedLab>(options);
         c->clock_factor = options.clock_factor;
         c->config = c->simulated->config();

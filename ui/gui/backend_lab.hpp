@@ -53,8 +53,9 @@ class LabBackend : public QObject {
   /// Starts the simulated instruments in process (simulated time runs `clock_factor` fast)
   /// and connects to them over their real protocols. Without options.tissue the lab holds the
   /// default sample `tocdlab demo` measures (tocd/mocks/default_sample.hpp; the first start
-  /// prepares it, minutes; later ones read it from the cache).
-  void connect_simulated(mocks::SimulatedLabOptions options);
+  /// prepares it, minutes; later ones read it from the cache), with the stiffness and clearing
+  /// of `truth` (its relaxation and delayed clearing are the options').
+  void connect_simulated(mocks::SimulatedLabOptions options, const mocks::SampleTruth& truth = {});
   void disconnect_lab();
 
   bool is_connected() const noexcept { return config_.has_value(); }

@@ -7,12 +7,14 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "demo.hpp"
 #include "main_window.hpp"
 #include "simulation_view.hpp"
 #include "tocd/core/runtime_dir.hpp"
 #include "tocd/core/version.hpp"
+#include "tocd/mocks/sample_truth.hpp"
 
 namespace {
 
@@ -50,6 +52,28 @@ int main(int argc, char** argv) {
                                  QStringLiteral("Simulated seconds per real second for the simulated lab."),
                                  QStringLiteral("F"));
   cli.addOptions({version, demo, screenshot, db, photons, clock});
+  // The simulated sample's truth, as `tocdlab demo` takes it (tocd/mocks/sample_truth.hpp).
+  const auto bare = [](const char* option) { return QString::fromUtf8(option + 2); };  // no "--"
+  const QCommandLineOption truth_seed(
+      bare(tocd::mocks::kSampleTruthSeedOption),
+      QStringLiteral(
+          "Draw the simulated sample's truth (every --truth-* not given) from its documented ranges "
+          "with this seed."),
+      QStringLiteral("N"));
+  cli.addOption(truth_seed);
+  std::vector<QCommandLineOption> truth_options;
+  for (const auto& f : tocd::mocks::kSampleTruthFields) {
+    const tocd::mocks::TruthRange r = tocd::mocks::sample_truth_limits().*f.range;
+    truth_options.emplace_back(
+        bare(f.option),
+        QStringLiteral("The simulated sample's %1 (default %2, accepted %3 to %4; as in tocdlab demo).")
+            .arg(QString::fromUtf8(f.name))
+            .arg(tocd::mocks::SampleTruth{}.*f.value)
+            .arg(r.lo)
+            .arg(r.hi),
+        QStringLiteral("X"));
+    cli.addOption(truth_options.back());
+  }
   // The command line is read before the QApplication exists: a QApplication aborts without a
   // display, and --help, --version and usage errors need none (docs/cli.md: exit 0 / 2).
   {
@@ -85,6 +109,28 @@ int main(int argc, char** argv) {
                  qPrintable(cli.value(photons)));
     return 2;
   }
+  tocd::mocks::SampleTruth truth;
+  if (cli.isSet(truth_seed)) {
+    const qulonglong seed = cli.value(truth_seed).toULongLong(&number_ok);
+    if (!number_ok) {
+      std::fprintf(stderr, "tocdlab-gui: usage error: %s must be a whole number >= 0, got '%s'\n",
+                   tocd::mocks::kSampleTruthSeedOption, qPrintable(cli.value(truth_seed)));
+      return 2;
+    }
+    truth = tocd::mocks::draw_sample_truth(seed);
+  }
+  for (std::size_t i = 0; i < truth_options.size(); ++i) {
+    if (!cli.isSet(truth_options[i])) continue;
+    const auto& f = tocd::mocks::kSampleTruthFields[i];
+    const tocd::mocks::TruthRange r = tocd::mocks::sample_truth_limits().*f.range;
+    const double v = cli.value(truth_options[i]).toDouble(&number_ok);
+    if (!number_ok || !std::isfinite(v) || v < r.lo || v > r.hi) {
+      std::fprintf(stderr, "tocdlab-gui: usage error: %s: '%s' is out of range: accepted from %g up to %g\n",
+                   f.option, qPrintable(cli.value(truth_options[i])), r.lo, r.hi);
+      return 2;
+    }
+    truth.*f.value = v;
+  }
   if (cli.isSet(screenshot) && !cli.isSet(demo)) {
     std::fprintf(stderr, "tocdlab-gui: usage error: --screenshot needs --demo\n");
     return 2;
@@ -113,6 +159,7 @@ int main(int argc, char** argv) {
   } else if (cli.isSet(demo)) {
     window.simulation_view()->set_photons(20000);  // enough for a picture, quick on two cores
   }
+  window.set_sample_truth(truth);
   auto lab = window.simulated_lab_options();
   // Real time: the demo protocol polls the tester at 1 kHz, and a faster clock asks that much
   // more of the loopback link while the window draws and the predictions run in the same

@@ -67,6 +67,11 @@ class MainWindow : public QMainWindow {
   /// Options of the simulated lab started by the "Simulated lab" action.
   void set_simulated_lab_options(const mocks::SimulatedLabOptions& options) { sim_options_ = options; }
   mocks::SimulatedLabOptions simulated_lab_options() const { return sim_options_; }
+  /// The simulated sample's truth (`tocdlab-gui --truth-*`): the stiffness and clearing of the
+  /// sample the "Simulated lab" action prepares, and its relaxation and delayed clearing (set in
+  /// the simulated lab options too).
+  void set_sample_truth(const mocks::SampleTruth& truth);
+  const mocks::SampleTruth& sample_truth() const noexcept { return sample_truth_; }
 
   /// Loads a protocol from TOML text (what "Open protocol" does after reading the file).
   bool load_protocol_text(const QString& text, const QString& source_name);
@@ -121,6 +126,7 @@ class MainWindow : public QMainWindow {
   FileChooser choose_file_;
   PredictorFactory predictor_factory_;
   mocks::SimulatedLabOptions sim_options_;
+  mocks::SampleTruth sample_truth_;
   std::optional<acquisition::Protocol> protocol_;
   QString record_db_path_;
   QString last_error_;

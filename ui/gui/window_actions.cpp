@@ -132,10 +132,20 @@ void MainWindow::open_lab() {
   update_actions();
 }
 
+void MainWindow::set_sample_truth(const mocks::SampleTruth& truth) {
+  mocks::validate(truth);
+  sample_truth_ = truth;
+  const mocks::SimulatedLabOptions o = mocks::simulated_lab_options(truth);
+  sim_options_.relaxation_fraction = o.relaxation_fraction;
+  sim_options_.relaxation_time_s = o.relaxation_time_s;
+  sim_options_.delayed_clearing = o.delayed_clearing;
+  sim_options_.delayed_clearing_time_s = o.delayed_clearing_time_s;
+}
+
 void MainWindow::start_simulated_lab() {
   lab_busy_ = true;
   lab_view_->show_connecting(tr("simulated lab"));
-  lab_->connect_simulated(sim_options_);
+  lab_->connect_simulated(sim_options_, sample_truth_);
   update_actions();
 }
 

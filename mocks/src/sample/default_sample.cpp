@@ -29,8 +29,14 @@ std::vector<double> default_sample_grid(double thickness_mm, double max_displace
 }
 
 SimTissueSpec default_sample_spec(double thickness_mm, double max_displacement_mm,
-                                  const DefaultSampleOptions& options) {
+                                  const DefaultSampleOptions& options, const SampleTruth& truth) {
+  validate(truth);
   SimTissueSpec spec;
+  spec.stiffness_scale = truth.stiffness_scale;
+  spec.cleared_mu_a_fraction = truth.cleared_mu_a_fraction;
+  spec.cleared_mu_s_fraction = truth.cleared_mu_s_fraction;
+  spec.cleared_n_fraction = truth.cleared_n_fraction;
+  spec.full_clearing_strain = truth.full_clearing_strain;
   spec.thickness_mm = thickness_mm;
   spec.displacements_mm = default_sample_grid(thickness_mm, max_displacement_mm);
   spec.photons = options.photons;
@@ -43,6 +49,12 @@ SimTissueSpec default_sample_spec(double thickness_mm, double max_displacement_m
 std::shared_ptr<TissueModel> make_default_sample(double thickness_mm, double max_displacement_mm,
                                                  const DefaultSampleOptions& options, SimTissueTable* table) {
   return make_simulated_tissue(default_sample_spec(thickness_mm, max_displacement_mm, options), table);
+}
+
+std::shared_ptr<TissueModel> make_default_sample(double thickness_mm, double max_displacement_mm,
+                                                 const SampleTruth& truth,
+                                                 const DefaultSampleOptions& options, SimTissueTable* table) {
+  return make_simulated_tissue(default_sample_spec(thickness_mm, max_displacement_mm, options, truth), table);
 }
 
 }  // namespace tocd::mocks

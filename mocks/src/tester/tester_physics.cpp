@@ -51,7 +51,7 @@ void TesterPhysics::advance(double t_s) {
 
 void TesterPhysics::drain(double h) {
   const double d = displacement_mm();
-  drained_displacement_ = d + (drained_displacement_ - d) * std::exp(-h / p_.relaxation_time_s);
+  drained_displacement_ = d + (drained_displacement_ - d) * std::exp(-h / p_.drained_time_s);
 }
 
 void TesterPhysics::step(double h) {

@@ -12,10 +12,11 @@ namespace tocd::mocks {
 /// from the tissue's equilibrium curve plus a standard-linear-solid overstress that relaxes while
 /// the pin holds, load-cell offset and noise, travel and load limits. Not thread-safe.
 ///
-/// The overstress is what a biphasic sample carries while its water has not yet drained; the
-/// same first-order drainage, with the same time constant, gives the drained displacement: the
-/// displacement whose water content the sample has reached (it follows the pin's displacement,
-/// d(dd)/dt = (d - dd) / relaxation_time_s). The simulated lab's delayed clearing reads it.
+/// The overstress is what a biphasic sample carries while its water has not yet drained; a
+/// first-order drainage gives the drained displacement: the displacement whose water content
+/// the sample has reached (it follows the pin's displacement, d(dd)/dt = (d - dd) /
+/// drained_time_s). The simulated lab's delayed clearing reads it. Both time constants are the
+/// sample's truth (sample_truth.hpp); by default they are equal.
 class TesterPhysics {
  public:
   struct Params {
@@ -29,7 +30,8 @@ class TesterPhysics {
     double load_noise_N = 0.002;
     double load_cell_offset_N = 0.05;  ///< what the cell reads unloaded before a tare
     double relaxation_fraction = 0.3;
-    double relaxation_time_s = 20.0;
+    double relaxation_time_s = 20.0;  ///< decay time of the overstress
+    double drained_time_s = 20.0;     ///< time constant of the drained displacement
     double max_velocity_mm_per_s = 20.0;
     double home_velocity_mm_per_s = 5.0;
     std::uint64_t seed = 1;

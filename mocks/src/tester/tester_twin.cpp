@@ -126,6 +126,7 @@ struct TesterTwin::Impl {
     p.load_noise_N = o.load_noise_N;
     p.relaxation_fraction = o.relaxation_fraction;
     p.relaxation_time_s = o.relaxation_time_s;
+    p.drained_time_s = o.delayed_clearing_time_s;
     p.max_velocity_mm_per_s = o.max_velocity_mm_per_s;
     p.seed = o.seed;
     return p;

@@ -112,6 +112,27 @@ TEST(SimulatedLab, DelayedClearingLetsTRiseWhileTheWaterDrains) {
   EXPECT_NEAR(late, 1e-3 * tissue->transmission(d), noise(late) + 0.3e-3 * std::exp(-7.0));
 }
 
+// The truth's time constants reach the tester: with a drainage time of 1 s (the relaxation
+// time left at 1000 s), 15 simulated seconds after a step the drained displacement has caught
+// up to within e^-14 of it; with the relaxation time's 20 s it would still lag by half.
+TEST(SimulatedLab, DrainedDisplacementFollowsTheTruthsTimeConstant) {
+  mocks::SampleTruth truth;
+  truth.relaxation_time_s = 1000.0;
+  truth.delayed_clearing_time_s = 1.0;
+  mocks::SimulatedLabOptions o = mocks::simulated_lab_options(truth);
+  o.clock_factor = 50.0;
+  o.with_vacuum = false;
+  EXPECT_EQ(o.delayed_clearing, truth.delayed_clearing);
+  mocks::SimulatedLab lab(o);
+  devices::LabInstruments in = devices::open_lab(lab.config());
+  in.tester->move_to(2.5, 10.0);  // 1.5 mm into the sample in 0.15 s
+  settle(*in.tester);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // 15 s simulated, or more
+  const double d = lab.tester().displacement_mm();
+  ASSERT_NEAR(d, 1.5, 1e-6);
+  EXPECT_NEAR(lab.tester().drained_displacement_mm(), d, 1e-4);
+}
+
 TEST(SimulatedLab, FaultHooksReachTheirInstruments) {
   mocks::SimulatedLab lab(fast());
   devices::LabInstruments in = devices::open_lab(lab.config());

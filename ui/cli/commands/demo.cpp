@@ -52,7 +52,7 @@ struct DemoOptions {
   std::uint64_t seed = 1;
   int threads = 0;
   double clock_factor = 2.0;
-  double delayed_clearing = tocd::mocks::kDefaultDelayedClearing;
+  cli::SampleChoice truth;  // --truth-* (and --delayed-clearing)
   bool json = false;
 };
 
@@ -71,7 +71,8 @@ void run_demo(const DemoOptions& o) {
       o.csv.empty() ? std::filesystem::path(o.db).replace_extension(".csv").string() : o.csv;
 
   // 1. The simulated sample: FE load curve and Monte Carlo transmission at the protocol's steps.
-  cli::SampleChoice sample;
+  cli::SampleChoice sample = o.truth;
+  const tocd::mocks::SampleTruth truth = cli::sample_truth(sample);  // a usage error before any work
   sample.photons = o.sample_photons;
   sample.threads = o.threads;
   sample.cache_dir = o.cache_dir;
@@ -85,14 +86,13 @@ void run_demo(const DemoOptions& o) {
 
   // 2. The simulated lab on loopback TCP / a pty, and the instruments through the real drivers.
   tocd::cli::AbortOnSignal signals(std::cerr);
-  tocd::mocks::SimulatedLabOptions so;
+  tocd::mocks::SimulatedLabOptions so = tocd::mocks::simulated_lab_options(truth);
   so.tissue = tissue;
   so.clock_factor = o.clock_factor;
   so.contact_position_mm = protocol.contact_position_mm;
   so.source_power_W = protocol.baseline.power_W.value_or(1e-3);
   so.with_vacuum = false;
   so.seed = o.seed;
-  so.delayed_clearing = o.delayed_clearing;
   tocd::mocks::SimulatedLab lab(so);
   phases.mark("simulated lab started");
   const tocd::devices::LabConfig lab_cfg = lab.config();
@@ -134,15 +134,17 @@ void run_demo(const DemoOptions& o) {
   tocd::write_file_atomically(csv_path, cli::to_naming_table_csv(acq::format_compare_csv(t)));
   phases.mark("compare table written");
   if (o.json) {
-    nlohmann::json summary = {
-        {"run_id", run_id},
-        {"state", acq::to_string(final_state)},
-        {"error", error},
-        {"files", {{"database", o.db}, {"csv", csv_path}}},
-        {"simulated_sample",
-         {{"seconds", table.seconds}, {"from_cache", table.from_cache}, {"cache_file", table.cache_file}}},
-        {"compare", acq::to_json(t)},
-        {"hold_clearing", acq::hold_clearing_json(holds)}};
+    nlohmann::json summary = {{"run_id", run_id},
+                              {"state", acq::to_string(final_state)},
+                              {"error", error},
+                              {"files", {{"database", o.db}, {"csv", csv_path}}},
+                              {"simulated_sample",
+                               {{"seconds", table.seconds},
+                                {"from_cache", table.from_cache},
+                                {"cache_file", table.cache_file},
+                                {"truth", tocd::mocks::to_json(truth)}}},
+                              {"compare", acq::to_json(t)},
+                              {"hold_clearing", acq::hold_clearing_json(holds)}};
     cli::print_json(summary);
   } else {
     std::cout << acq::format_compare_table(t);
@@ -192,11 +194,6 @@ void install_demo(CLI::App& root) {
   cmd->add_option("--clock-factor", o->clock_factor, "simulated seconds per real second")
       ->check(cli::real_above(0.0, 1e6))
       ->capture_default_str();
-  cmd->add_option("--delayed-clearing", o->delayed_clearing,
-                  "share of the simulated sample's clearing that waits for its water to drain (time "
-                  "constant: the load's relaxation time, 20 s); 0: it clears at once")
-      ->check(cli::real_in(0.0, 1.0))
-      ->capture_default_str();
   cmd->add_option("--protocol", o->protocol,
                   "another pin-compression protocol TOML instead of the built-in one");
   cmd->add_flag(
@@ -207,6 +204,7 @@ void install_demo(CLI::App& root) {
                   "$XDG_CACHE_HOME/tocdlab, else ~/.cache/tocdlab)")
       ->capture_default_str();
   cmd->add_flag("--no-cache", o->no_cache, "prepare the simulated sample afresh and do not cache it");
+  cli::add_truth_options(*cmd, o->truth, true);
   cmd->callback([o] { run_demo(*o); });
 }
 

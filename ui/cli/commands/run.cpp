@@ -61,6 +61,11 @@ void run_protocol(const RunOptions& o) {
   if (o.clock_factor != 1.0 && !o.simulated) {
     throw tocd::ConfigError("--clock-factor only applies to the simulated lab (--simulated)");
   }
+  if (o.simulated) {
+    cli::sample_truth(o.sample);  // a bad combination is a usage error, before anything is opened
+  } else if (const char* given = cli::first_truth_option(o.sample)) {
+    throw CLI::ValidationError(given, "the sample's truth only applies to the simulated lab (--simulated)");
+  }
   if (o.resume && !o.protocol.empty()) {
     std::cerr << "note: --resume continues with the protocol stored in run " << *o.resume << "; "
               << o.protocol << " is not read\n";
@@ -97,11 +102,10 @@ void run_protocol(const RunOptions& o) {
 
   std::unique_ptr<tocd::mocks::SimulatedLab> sim;
   if (o.simulated) {
-    tocd::mocks::SimulatedLabOptions so;
+    tocd::mocks::SimulatedLabOptions so = cli::simulated_lab_options(o.sample);
     so.clock_factor = o.clock_factor;
     so.contact_position_mm = protocol.contact_position_mm;
     so.tissue = cli::prepare_sample(o.sample, protocol);
-    so.delayed_clearing = o.sample.kind == "simulated" ? tocd::mocks::kDefaultDelayedClearing : 0.0;
     // As `tocdlab demo` sets up the lab, so the same protocol and seed measure the same.
     so.source_power_W = protocol.baseline.power_W.value_or(so.source_power_W);
     so.seed = o.seed;

@@ -67,13 +67,12 @@ struct SimlabOptions {
 };
 
 void run_simlab(const SimlabOptions& o) {
-  tocd::mocks::SimulatedLabOptions opt;
+  tocd::mocks::SimulatedLabOptions opt = cli::simulated_lab_options(o.sample);
   opt.clock_factor = o.clock_factor;
   opt.source_power_W = o.source_power_W;
   opt.contact_position_mm = o.contact_mm;
   opt.seed = o.seed;
   opt.tissue = cli::prepare_sample(o.sample, o.thickness_mm, o.max_displacement_mm);
-  if (o.sample.kind == "simulated") opt.delayed_clearing = tocd::mocks::kDefaultDelayedClearing;
   opt.with_vacuum = !o.no_vacuum;
   opt.with_power_meter = !o.no_power_meter;
   if (!o.config.empty()) {

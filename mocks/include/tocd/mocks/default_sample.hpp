@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "tocd/mocks/sample_truth.hpp"
 #include "tocd/mocks/sim_tissue.hpp"
 #include "tocd/mocks/tissue.hpp"
 
@@ -25,8 +26,9 @@ inline constexpr double kDefaultSampleGridMm = 0.25;
 inline constexpr double kDefaultSampleMinReachMm = 1.5;
 /// Monte Carlo photons per grid point (the demo's --sample-photons default).
 inline constexpr std::uint64_t kDefaultSamplePhotons = 50000;
-/// Share of each step's clearing that waits for the water to drain (SimulatedLabOptions).
-inline constexpr double kDefaultDelayedClearing = 0.3;
+/// Share of each step's clearing that waits for the water to drain (SimulatedLabOptions; the
+/// default SampleTruth's delayed_clearing).
+inline constexpr double kDefaultDelayedClearing = SampleTruth{}.delayed_clearing;
 
 /// The displacement grid for a sample `thickness_mm` thick that a protocol drives to
 /// `max_displacement_mm`: kDefaultSampleGridMm apart, from one spacing up to the first grid
@@ -44,12 +46,20 @@ struct DefaultSampleOptions {
 };
 
 /// The spec of the default sample (sim_tissue.hpp defaults: 1.25 x the published stiffness,
-/// graded optics, seed 7) at `thickness_mm` on default_sample_grid().
+/// graded optics, seed 7) at `thickness_mm` on default_sample_grid(), with the stiffness and
+/// clearing of `truth` (validated; ConfigError naming the field). The default truth gives the
+/// default sample, bit for bit, and its cache entry.
 SimTissueSpec default_sample_spec(double thickness_mm, double max_displacement_mm,
-                                  const DefaultSampleOptions& options = {});
+                                  const DefaultSampleOptions& options = {}, const SampleTruth& truth = {});
 
 /// Prepares (or reads from the cache) the default sample; see make_simulated_tissue.
 std::shared_ptr<TissueModel> make_default_sample(double thickness_mm, double max_displacement_mm,
+                                                 const DefaultSampleOptions& options = {},
+                                                 SimTissueTable* table = nullptr);
+/// The same with the stiffness and clearing of `truth` (its relaxation and delayed clearing
+/// belong to the lab: simulated_lab_options(truth)).
+std::shared_ptr<TissueModel> make_default_sample(double thickness_mm, double max_displacement_mm,
+                                                 const SampleTruth& truth,
                                                  const DefaultSampleOptions& options = {},
                                                  SimTissueTable* table = nullptr);
 

@@ -20,7 +20,15 @@ struct SimTissueSpec {
   double thickness_mm = 2.0;
   /// Shear moduli of the published Ogden fit times this (D_1 divided by it: same Poisson's ratio).
   double stiffness_scale = 1.25;
-  std::string optics_model = "graded";                                    ///< "threshold" | "graded"
+  std::string optics_model = "graded";  ///< "threshold" | "graded"
+  /// Fully cleared skin relative to native (mu_a, mu_s, n; g stays native): the published
+  /// study's most cleared state (simulation 11) by default. The graded model moves from native
+  /// to it as the compressive log strain grows to full_clearing_strain (8 levels); the threshold
+  /// model gives it to every element compressed beyond full_clearing_strain.
+  double cleared_mu_a_fraction = 0.6;
+  double cleared_mu_s_fraction = 0.6;
+  double cleared_n_fraction = 1.1;
+  double full_clearing_strain = 0.5;
   std::vector<double> displacements_mm{0.25, 0.5, 0.75, 1.0, 1.25, 1.5};  ///< > 0, ascending
   std::uint64_t photons = 50000;
   std::uint64_t seed = 7;
@@ -30,6 +38,14 @@ struct SimTissueSpec {
   /// Where prepared tables are cached (sim_tissue_cache.hpp); empty: always prepare afresh.
   std::filesystem::path cache_dir;
 };
+
+/// Optical properties of one skin state (mm^-1; g and n dimensionless).
+struct SimTissueOptics {
+  double mu_a_per_mm = 0, mu_s_per_mm = 0, g = 0, n = 0;
+};
+/// The fully cleared skin a spec's sample clears to (native skin's optics with the spec's
+/// fractions; bit for bit the published cleared state at the default fractions).
+SimTissueOptics sim_tissue_cleared_optics(const SimTissueSpec& spec);
 
 /// The tables behind the tissue (displacement 0 first).
 struct SimTissueTable {

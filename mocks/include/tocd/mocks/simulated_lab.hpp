@@ -5,6 +5,7 @@
 
 #include "tocd/devices/lab.hpp"
 #include "tocd/mocks/modbus_faults.hpp"
+#include "tocd/mocks/sample_truth.hpp"
 #include "tocd/mocks/tissue.hpp"
 
 namespace tocd::mocks {
@@ -24,13 +25,22 @@ struct SimulatedLabOptions {
   bool with_power_meter = true;
   /// Clearing over time: the share of a change in transmission that waits for the water to
   /// drain. The meter reads T = (1 - f) T(d) + f T(dd), d the pin's displacement and dd the
-  /// tester's drained displacement (it follows d with the load's relaxation time), so after a
+  /// tester's drained displacement (it follows d with delayed_clearing_time_s), so after a
   /// step T jumps by (1 - f) of the change and rises (or falls) the rest during the hold;
   /// at long holds T(d). 0: the sample clears at once.
   double delayed_clearing = 0.0;
+  double delayed_clearing_time_s = 20.0;
+  /// The sample's standard-linear-solid overstress (TesterTwinOptions).
+  double relaxation_fraction = 0.3;
+  double relaxation_time_s = 20.0;
   int tester_port = 0;       ///< 0 = any free port
   int power_meter_port = 0;  ///< 0 = any free port
 };
+
+/// Options whose sample behaves as `truth` says in time (relaxation, delayed clearing); the
+/// tissue is left unset: make_default_sample(thickness, max displacement, truth) gives the one
+/// with the truth's stiffness and optics.
+SimulatedLabOptions simulated_lab_options(const SampleTruth& truth);
 
 /// Every simulated instrument of the pin-compression rig, each on its real transport: the tester
 /// (Modbus TCP on loopback), the power meter (SCPI over TCP) and the vacuum

@@ -26,6 +26,9 @@ struct TesterTwinOptions {
   double load_noise_N = 0.002;       ///< load-cell noise (1 sigma)
   double relaxation_fraction = 0.3;  ///< extra stress carried while moving (standard linear solid)
   double relaxation_time_s = 20.0;   ///< time constant of stress relaxation while holding
+  /// Time constant of the drained displacement (first-order drainage; the simulated lab's
+  /// delayed clearing follows it).
+  double delayed_clearing_time_s = 20.0;
   double max_velocity_mm_per_s = 20.0;
   std::uint64_t seed = 1;
   ServerLimits limits;  ///< what the Modbus TCP server grants each client (docs/security.md)
@@ -49,7 +52,7 @@ class TesterTwin {
   double position_mm() const;
   double displacement_mm() const;
   /// The displacement whose water content the sample has reached: it follows displacement_mm()
-  /// with the relaxation time (first-order drainage, docs/instruments/simulated-lab.md).
+  /// with delayed_clearing_time_s (first-order drainage, docs/instruments/simulated-lab.md).
   double drained_displacement_mm() const;
 
   // Fault hooks.

@@ -10,7 +10,7 @@ namespace tocd::mocks {
 /// are immutable and thread-safe.
 struct TissueModel {
   virtual ~TissueModel() = default;
-  virtual double load_N(double displacement_mm) const = 0;        ///< equilibrium (before relaxation)
+  virtual double load_N(double displacement_mm) const = 0;  ///< equilibrium (before relaxation)
   /// Transmitted power over the source power. The source power is the glass-only reference
   /// reading, so this may exceed 1 slightly: skin in optical contact with the pin tip
   /// frustrates the total internal reflection the glass-only reference suffers there.
