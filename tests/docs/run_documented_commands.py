@@ -89,6 +89,8 @@ LONG_DOCS = {
     "docs/study.md": "study paper at 10^7 photons (about 20 minutes on two idle cores), the demo, "
                      "sensitivity at 10^6 photons (7.5 minutes), compare --material fitted",
     "docs/water.md": "tocdlab demo, then compare --optics water (biphasic FE and Monte Carlo per time point)",
+    "docs/identify.md": "a simulated run (1 min with a cold sample cache), then identify with the optics' "
+                        "Monte Carlo (2 min)",
 }
 
 PROGRAM = r"(?:(?:\./)?(?:[\w.+-]+/)*bin/)?tocdlab(?:-gui)?"
@@ -99,7 +101,7 @@ BUILD_BIN = re.compile(r"(?<![\w/.])(?:\./)?build/[\w.+-]+/bin/(?=tocdlab)")
 
 # Subcommands when no binary is at hand (--list, --check-links); with --bin-dir the list comes
 # from `tocdlab --help` so a new command is recognised without an edit here.
-DEFAULT_SUBCOMMANDS = {"compare", "demo", "devices", "export", "fe", "fit", "mc", "plot",
+DEFAULT_SUBCOMMANDS = {"compare", "demo", "devices", "export", "fe", "fit", "identify", "mc", "plot",
                        "powermeter", "predict", "run", "runs", "simlab", "study", "version"}
 
 

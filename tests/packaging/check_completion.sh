@@ -56,5 +56,8 @@ expect "demo --delayed-clearing TAB" "$(complete_words demo --delayed-clearing '
 expect "simlab --truth-seed TAB" "$(complete_words simlab --truth-seed '')" ""
 expect "run --truth-relax TAB" "$(complete_words run --truth-relax)" "--truth-relaxation-fraction --truth-relaxation-time"
 expect "study TAB" "$(complete_words study '')" "paper sensitivity sweep"
+expect_no_files "identify --mechanics-only TAB" "$(complete_words identify --mechanics-only '')"
+expect "identify --db TAB" "$(complete_words identify --db '')" "mesh.node notes.txt optics.toml"
+expect "identify --prony-terms TAB" "$(complete_words identify --prony-terms '')" ""
 expect "mc --vtu-f TAB" "$(complete_words mc --vtu-f)" "--vtu-format"
 [ "$failures" -eq 0 ]

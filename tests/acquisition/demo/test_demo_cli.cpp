@@ -60,9 +60,19 @@ TEST(Demo, EveryStepMeasuredAndPredictedCsvMatchesDatabaseAndRunCanBeFitted) {
   fs::remove_all(g_dir);
   fs::create_directories(g_dir);
   const std::string db = (g_dir / "demo.db").string();
-  ASSERT_EQ(tocdlab(fmt::format("demo --db {} --photons 4000 --sample-photons 4000 --clock-factor 4", db)), 0)
+  ASSERT_EQ(
+      tocdlab(fmt::format(
+          "demo --db {} --photons 4000 --sample-photons 4000 --clock-factor 4 --identify-photons 4000", db)),
+      0)
       << g_out;
   EXPECT_NE(g_out.find("predicted T"), std::string::npos) << g_out;
+  // Below the step table, on stdout: the sample identified from the run (tocdlab identify).
+  {
+    const std::string out = slurp(g_dir / "out");
+    EXPECT_NE(out.find("Identified sample of run 1"), std::string::npos) << g_out;
+    EXPECT_NE(out.find("stiffness_scale"), std::string::npos) << g_out;
+    EXPECT_LT(out.find("predicted T"), out.find("Identified sample of run")) << "the table comes first";
+  }
 
   // Every step has a measured and a predicted T in the CSV.
   const auto rows = read_csv(g_dir / "demo.csv");

@@ -2,18 +2,21 @@
 // simulated instruments (real wire protocols), recorded into a measurement database, every
 // step predicted by the FE + Monte Carlo simulator, measured vs. predicted printed and written
 // as CSV. The simulated sample deliberately differs from the model's default tissue (stiffer,
-// strain-graded optics) so that the comparison is not circular.
+// strain-graded optics) so that the comparison is not circular. Below the table, what the
+// recorded run says about the sample (tocdlab identify, docs/identify.md).
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
+#include "identify_report.hpp"
 #include "numeric_options.hpp"
 #include "output_naming.hpp"
 #include "output_paths.hpp"
@@ -26,6 +29,7 @@
 #include "tocd/acquisition/lab_session.hpp"
 #include "tocd/acquisition/protocol.hpp"
 #include "tocd/acquisition/sim_step_predictor.hpp"
+#include "tocd/analysis/identify_sample.hpp"
 #include "tocd/core/atomic_file.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/core/log.hpp"
@@ -54,7 +58,30 @@ struct DemoOptions {
   double clock_factor = 2.0;
   cli::SampleChoice truth;  // --truth-* (and --delayed-clearing)
   bool json = false;
+  std::uint64_t identify_photons = 50000;  // the identification's Monte Carlo, per held step
+  bool no_identify = false;
 };
+
+// The identified sample of the recorded run (docs/identify.md), or nothing when it is not
+// asked for or fails. A failure is reported on stderr and does not change the demo's exit
+// status: the run itself was recorded and predicted, which is what the demo's status says.
+std::optional<tocd::analysis::SampleIdentification> identify_run(const DemoOptions& o,
+                                                                 const tocd::db::Reader& reader,
+                                                                 std::int64_t run_id) {
+  if (o.no_identify) return std::nullopt;
+  tocd::analysis::SampleIdentificationOptions so;
+  so.monte_carlo.photons = o.identify_photons;
+  so.monte_carlo.threads = o.threads;
+  if (!cli::progress_quiet())
+    so.progress = [](const std::string& line) { std::cerr << "identify: " << line << std::endl; };
+  try {
+    return tocd::analysis::identify_sample(reader, run_id, so);
+  } catch (const tocd::Error& e) {
+    std::cerr << fmt::format("tocdlab demo: identifying the sample of run {} failed: {}", run_id, e.what())
+              << std::endl;
+    return std::nullopt;
+  }
+}
 
 void run_demo(const DemoOptions& o) {
   namespace acq = tocd::acquisition;
@@ -85,7 +112,8 @@ void run_demo(const DemoOptions& o) {
              table.from_cache ? "from cache " + table.cache_file : "computed");
 
   // 2. The simulated lab on loopback TCP / a pty, and the instruments through the real drivers.
-  tocd::cli::AbortOnSignal signals(std::cerr);
+  std::optional<tocd::cli::AbortOnSignal> signals;
+  signals.emplace(std::cerr);
   tocd::mocks::SimulatedLabOptions so = tocd::mocks::simulated_lab_options(truth);
   so.tissue = tissue;
   so.clock_factor = o.clock_factor;
@@ -114,7 +142,7 @@ void run_demo(const DemoOptions& o) {
   {
     acq::LabSession lab_session(db, lab_cfg, session, &progress);
     acq::Engine& engine = lab_session.engine();
-    const tocd::cli::AbortOnSignal::Attached attached(signals, engine);
+    const tocd::cli::AbortOnSignal::Attached attached(*signals, engine);
     run_id = engine.start(protocol);
     if (!cli::progress_quiet())
       std::cerr << fmt::format("run {} ({} steps) recording into {}", run_id, protocol.steps.size(), o.db)
@@ -124,6 +152,9 @@ void run_demo(const DemoOptions& o) {
     error = engine.error();
     phases.mark("run recorded and predicted");
   }
+  // No pin moves any more: SIGINT and SIGTERM end the program again at once (the
+  // identification below runs for minutes and would otherwise not hear them).
+  signals.reset();
 
   // 4. Measured vs. predicted: the table (or with --json the whole run summary) on stdout, the
   // CSV file beside the database, the files written announced on stderr.
@@ -133,7 +164,10 @@ void run_demo(const DemoOptions& o) {
   const auto holds = acq::hold_clearing(reader, run_id);
   tocd::write_file_atomically(csv_path, cli::to_naming_table_csv(acq::format_compare_csv(t)));
   phases.mark("compare table written");
+  // The identification needs a whole run: an interrupted one fails below without it.
+  const bool identify = final_state == acq::EngineState::completed;
   if (o.json) {
+    const auto id = identify ? identify_run(o, reader, run_id) : std::nullopt;
     nlohmann::json summary = {{"run_id", run_id},
                               {"state", acq::to_string(final_state)},
                               {"error", error},
@@ -145,6 +179,7 @@ void run_demo(const DemoOptions& o) {
                                 {"truth", tocd::mocks::to_json(truth)}}},
                               {"compare", acq::to_json(t)},
                               {"hold_clearing", acq::hold_clearing_json(holds)}};
+    if (id) summary["identified"] = tocd::analysis::to_json(*id);
     cli::print_json(summary);
   } else {
     std::cout << acq::format_compare_table(t);
@@ -154,6 +189,12 @@ void run_demo(const DemoOptions& o) {
     std::cout << "\nClearing during the holds: measured T over the first and the last second of each "
                  "step's recording (the sample keeps clearing while its water drains):\n"
               << acq::format_hold_clearing(holds);
+    // The table first: the identification takes a minute or more (its Monte Carlo).
+    std::cout << std::flush;
+    if (const auto id = identify ? identify_run(o, reader, run_id) : std::nullopt) {
+      std::cout << '\n';
+      tocd::cli::print_identification(std::cout, *id);
+    }
   }
   cli::announce_file("database", fmt::format("{}  (tocdlab compare --db {} --run {})", o.db, o.db, run_id));
   cli::announce_file("table (CSV)", csv_path);
@@ -204,6 +245,12 @@ void install_demo(CLI::App& root) {
                   "$XDG_CACHE_HOME/tocdlab, else ~/.cache/tocdlab)")
       ->capture_default_str();
   cmd->add_flag("--no-cache", o->no_cache, "prepare the simulated sample afresh and do not cache it");
+  cmd->add_option("--identify-photons", o->identify_photons,
+                  "Monte Carlo photons per held step for identifying the sample's clearing optics")
+      ->check(cli::whole_in(std::uint64_t{1000}, std::uint64_t{1000000000}))
+      ->capture_default_str();
+  cmd->add_flag("--no-identify", o->no_identify,
+                "do not identify the sample from the recorded run (tocdlab identify)");
   cli::add_truth_options(*cmd, o->truth, true);
   cmd->callback([o] { run_demo(*o); });
 }

@@ -1,0 +1,69 @@
+#pragma once
+
+// A parameter identified from a run, reported with what the run says about it: its 95 %
+// interval, whether the run determines it at all, and how it moves with the others.
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+#include <nlohmann/json.hpp>
+
+namespace tocd::analysis {
+
+/// What a parameter can be before any run is seen. A parameter counts as determined when its
+/// 95 % interval is narrower than a quarter of this range (on a log scale for log-scale
+/// parameters): the run then says clearly more than the range did. Otherwise it is reported
+/// as not determined, with its interval for what it is worth, never as a number to believe.
+struct PlausibleRange {
+  double lo = 0, hi = 1;
+  bool log_scale = false;  ///< positive quantities known to within factors: intervals on ln
+};
+
+struct IdentifiedParameter {
+  std::string name;         ///< e.g. "stiffness_scale", "g1", "tau1_s"
+  std::string description;  ///< one line for a lab user
+  double value = 0;
+  double se = 0;          ///< standard error (infinite when the run carries no information on it)
+  double lo = 0, hi = 0;  ///< 95 % interval
+  PlausibleRange range;
+  bool determined = false;
+  std::string why_not;  ///< when not determined: what the run lacks
+};
+
+/// Parameters with their covariance, as estimated by a least-squares fit.
+struct ParameterReport {
+  std::vector<IdentifiedParameter> parameters;
+  std::vector<std::vector<double>> correlation;  ///< between the parameters, in their order
+  double residual_rms = 0;
+  double noise_sigma = 0;         ///< noise standard deviation the intervals rest on
+  double autocorrelation = 0;     ///< lag-1 correlation of consecutive residuals
+  double variance_inflation = 1;  ///< (1 + rho) / (1 - rho) for rho > 0: fewer independent readings
+  std::size_t observations = 0;
+  int iterations = 0;
+  bool converged = false;
+
+  const IdentifiedParameter& at(const std::string& name) const;  ///< throws tocd::Error if absent
+};
+
+/// Fills se, lo, hi, determined and the correlation from a covariance matrix of the parameters
+/// (natural scale, in report order). A non-finite or non-positive variance gives an infinite
+/// se and "the run carries no information on it"; an interval of quantile z x se (z = 1.96),
+/// on ln(value) for log-scale parameters.
+void apply_covariance(ParameterReport& report, const Eigen::MatrixXd& covariance,
+                      double z = 1.959963984540054);
+
+/// The covariance of a least-squares estimate: sigma^2 (J^T J)^-1, J the Jacobian of the model
+/// at the rows, in natural parameters. Columns are scaled to unit norm before the inverse and
+/// directions the data do not see (eigenvalues below 1e-12 of the largest) left out: their
+/// parameters get an infinite variance.
+Eigen::MatrixXd least_squares_covariance(const Eigen::MatrixXd& jacobian, double sigma2);
+
+/// Lag-1 autocorrelation of residuals, over consecutive pairs within each of `segments`
+/// (index ranges [first, last] into `residuals`).
+double lag1_autocorrelation(const std::vector<double>& residuals,
+                            const std::vector<std::pair<std::size_t, std::size_t>>& segments);
+
+nlohmann::json to_json(const ParameterReport& report);
+
+}  // namespace tocd::analysis

@@ -1,0 +1,132 @@
+// Intervals, determination and correlations of identified parameters (identified.hpp).
+#include "tocd/analysis/identified.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "tocd/core/error.hpp"
+
+namespace tocd::analysis {
+
+const IdentifiedParameter& ParameterReport::at(const std::string& name) const {
+  for (const auto& p : parameters)
+    if (p.name == name) return p;
+  throw Error(fmt::format("no identified parameter named {}", name));
+}
+
+Eigen::MatrixXd least_squares_covariance(const Eigen::MatrixXd& jacobian, double sigma2) {
+  const auto n = jacobian.cols();
+  Eigen::VectorXd scale(n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const double norm = jacobian.col(j).norm();
+    scale(j) = norm > 0 ? 1.0 / norm : 0.0;
+  }
+  const Eigen::MatrixXd js = jacobian * scale.asDiagonal();
+  const Eigen::MatrixXd info = js.transpose() * js;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(info);
+  const Eigen::VectorXd lambda = eig.eigenvalues();
+  const Eigen::MatrixXd v = eig.eigenvectors();
+  const double largest = lambda.maxCoeff();
+  Eigen::MatrixXd inv = Eigen::MatrixXd::Zero(n, n);
+  std::vector<bool> blind(static_cast<std::size_t>(n), false);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    if (lambda(k) > 1e-12 * largest) {
+      inv += v.col(k) * v.col(k).transpose() / lambda(k);
+    } else {
+      // A direction the data do not see: every parameter with a share in it is unknown.
+      for (Eigen::Index j = 0; j < n; ++j)
+        if (std::abs(v(j, k)) > 1e-3) blind[static_cast<std::size_t>(j)] = true;
+    }
+  }
+  Eigen::MatrixXd cov = sigma2 * scale.asDiagonal() * inv * scale.asDiagonal();
+  for (Eigen::Index j = 0; j < n; ++j)
+    if (blind[static_cast<std::size_t>(j)] || scale(j) == 0)
+      cov(j, j) = std::numeric_limits<double>::infinity();
+  return cov;
+}
+
+double lag1_autocorrelation(const std::vector<double>& r,
+                            const std::vector<std::pair<std::size_t, std::size_t>>& segments) {
+  double num = 0, den = 0;
+  for (const auto& [first, last] : segments) {
+    for (std::size_t k = first; k <= last && k < r.size(); ++k) {
+      den += r[k] * r[k];
+      if (k > first) num += r[k] * r[k - 1];
+    }
+  }
+  return den > 0 ? num / den : 0.0;
+}
+
+void apply_covariance(ParameterReport& report, const Eigen::MatrixXd& cov, double z) {
+  const auto n = static_cast<Eigen::Index>(report.parameters.size());
+  if (cov.rows() != n || cov.cols() != n)
+    throw Error(fmt::format("covariance of {} parameters for a report of {}", cov.rows(), n));
+  report.correlation.assign(static_cast<std::size_t>(n),
+                            std::vector<double>(static_cast<std::size_t>(n), 0.0));
+  for (Eigen::Index i = 0; i < n; ++i) {
+    auto& p = report.parameters[static_cast<std::size_t>(i)];
+    const double var = cov(i, i);
+    p.se = std::isfinite(var) && var > 0 ? std::sqrt(var) : std::numeric_limits<double>::infinity();
+    if (!std::isfinite(p.se)) {
+      p.lo = -std::numeric_limits<double>::infinity();
+      p.hi = std::numeric_limits<double>::infinity();
+      p.determined = false;
+      p.why_not =
+          "the run carries no information on it (its column of the Jacobian is zero or "
+          "a combination of the others)";
+    } else {
+      double width = 0;
+      if (p.range.log_scale && p.value > 0) {
+        const double s = p.se / p.value;
+        p.lo = p.value * std::exp(-z * s);
+        p.hi = p.value * std::exp(z * s);
+        width = 2 * z * s / std::log(p.range.hi / p.range.lo);
+      } else {
+        p.lo = p.value - z * p.se;
+        p.hi = p.value + z * p.se;
+        width = (p.hi - p.lo) / (p.range.hi - p.range.lo);
+      }
+      p.determined = width < 0.25;
+      p.why_not = p.determined
+                      ? ""
+                      : fmt::format("its 95 % interval spans {:.0f} % of the plausible range {:g} .. {:g}",
+                                    100 * width, p.range.lo, p.range.hi);
+    }
+    for (Eigen::Index j = 0; j < n; ++j) {
+      const double c = cov(i, j) / std::sqrt(cov(i, i) * cov(j, j));
+      report.correlation[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] =
+          i == j ? 1.0 : (std::isfinite(c) ? c : 0.0);
+    }
+  }
+}
+
+nlohmann::json to_json(const ParameterReport& report) {
+  nlohmann::json params = nlohmann::json::array();
+  auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); };
+  for (const auto& p : report.parameters) {
+    nlohmann::json j = {{"name", p.name},
+                        {"description", p.description},
+                        {"value", p.value},
+                        {"se", number(p.se)},
+                        {"ci95", {number(p.lo), number(p.hi)}},
+                        {"plausible_range", {p.range.lo, p.range.hi}},
+                        {"determined", p.determined}};
+    if (!p.determined) j["why_not_determined"] = p.why_not;
+    params.push_back(j);
+  }
+  nlohmann::json names = nlohmann::json::array();
+  for (const auto& p : report.parameters) names.push_back(p.name);
+  return {{"parameters", params},
+          {"correlation", {{"names", names}, {"matrix", report.correlation}}},
+          {"residual_rms", report.residual_rms},
+          {"noise_sigma", report.noise_sigma},
+          {"residual_autocorrelation", report.autocorrelation},
+          {"variance_inflation", report.variance_inflation},
+          {"observations", report.observations},
+          {"iterations", report.iterations},
+          {"converged", report.converged}};
+}
+
+}  // namespace tocd::analysis

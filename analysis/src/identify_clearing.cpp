@@ -1,0 +1,309 @@
+// The clearing's time course (identify_clearing.hpp).
+#include "tocd/analysis/identify_clearing.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "tocd/core/error.hpp"
+#include "tocd/sim/material/qlv.hpp"
+
+namespace tocd::analysis {
+
+namespace {
+
+constexpr PlausibleRange kShareRange{0.0, 1.0, false};
+constexpr PlausibleRange kTimeRange{0.1, 1000.0, true};  // s
+constexpr PlausibleRange kTransmissionRange{0.0, 1.5, false};
+
+// Hat functions on the knots: weights of the two knots around x (clamped at the ends).
+void hat_weights(const std::vector<double>& knots, double x, std::size_t& lo, double& w_lo, double& w_hi) {
+  if (x <= knots.front()) {
+    lo = 0;
+    w_lo = 1;
+    w_hi = 0;
+    return;
+  }
+  if (x >= knots.back()) {
+    lo = knots.size() - 2;
+    w_lo = 0;
+    w_hi = 1;
+    return;
+  }
+  lo = static_cast<std::size_t>(std::upper_bound(knots.begin(), knots.end(), x) - knots.begin()) - 1;
+  w_hi = (x - knots[lo]) / (knots[lo + 1] - knots[lo]);
+  w_lo = 1 - w_hi;
+}
+
+struct Problem {
+  const RunHistory& h;
+  std::vector<double> knots;
+  std::vector<std::size_t> rows;     // meter readings in the holds
+  std::vector<double> d_at_row;      // pin displacement at each row's time
+  std::vector<std::size_t> hold_of;  // hold index of each row
+  std::vector<double> weight;        // 1 / noise sigma of each row's hold (1 until estimated)
+
+  // Basis matrix (rows x knots) for given (f, tau_w).
+  Eigen::MatrixXd basis(double f, double tau) const {
+    // dd = d - h, h the first-order lag of d with time constant tau (prony_history of d).
+    const auto lag = sim::material::prony_history(h.tester_t_s, h.displacement_mm, tau);
+    Eigen::MatrixXd b = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(rows.size()),
+                                              static_cast<Eigen::Index>(knots.size()));
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+      const double t = h.power_t_s[rows[r]];
+      const double d = d_at_row[r];
+      const double dd = d - interpolate(h.tester_t_s, lag, t);
+      std::size_t k;
+      double w0, w1;
+      const auto row = static_cast<Eigen::Index>(r);
+      hat_weights(knots, d, k, w0, w1);
+      b(row, static_cast<Eigen::Index>(k)) += (1 - f) * w0;
+      b(row, static_cast<Eigen::Index>(k + 1)) += (1 - f) * w1;
+      hat_weights(knots, dd, k, w0, w1);
+      b(row, static_cast<Eigen::Index>(k)) += f * w0;
+      b(row, static_cast<Eigen::Index>(k + 1)) += f * w1;
+    }
+    return b;
+  }
+};
+
+// Weighted residual sum of squares with the T_eq solved exactly (variable projection).
+double projected_cost(const Problem& pr, const Eigen::VectorXd& y, double f, double tau,
+                      Eigen::VectorXd* t_eq) {
+  const Eigen::VectorXd w = Eigen::Map<const Eigen::VectorXd>(pr.weight.data(), y.size());
+  const Eigen::MatrixXd b = w.asDiagonal() * pr.basis(f, tau);
+  const Eigen::VectorXd wy = w.cwiseProduct(y);
+  const Eigen::VectorXd x = b.colPivHouseholderQr().solve(wy);
+  if (t_eq) *t_eq = x;
+  return (wy - b * x).squaredNorm();
+}
+
+double span_of(const RunHistory& h) {
+  return std::max(1.0, h.tester_t_s.back() - h.tester_t_s.front());
+}
+
+// Variable projection on a grid of (f, ln tau_w), then golden-section refinement of each in
+// turn until neither moves: the T_eq are solved exactly at every point. Returns the rounds.
+int search(const Problem& pr, const Eigen::VectorXd& y, double& best_f, double& best_tau) {
+  const double span = span_of(pr.h);
+  double best = std::numeric_limits<double>::infinity();
+  for (int i = 0; i <= 20; ++i)
+    for (int k = 0; k < 25; ++k) {
+      const double f = 0.045 * i, tau = 0.2 * std::pow(25.0 * span, k / 24.0);
+      const double c = projected_cost(pr, y, f, tau, nullptr);
+      if (c < best) {
+        best = c;
+        best_f = f;
+        best_tau = tau;
+      }
+    }
+  auto golden = [&](auto cost, double lo, double hi) {
+    const double g = 0.5 * (std::sqrt(5.0) - 1);
+    double a = lo, b = hi, x1 = b - g * (b - a), x2 = a + g * (b - a), c1 = cost(x1), c2 = cost(x2);
+    for (int it = 0; it < 60 && b - a > 1e-10 * (1 + std::abs(a)); ++it) {
+      if (c1 < c2) {
+        b = x2;
+        x2 = x1;
+        c2 = c1;
+        x1 = b - g * (b - a);
+        c1 = cost(x1);
+      } else {
+        a = x1;
+        x1 = x2;
+        c1 = c2;
+        x2 = a + g * (b - a);
+        c2 = cost(x2);
+      }
+    }
+    return 0.5 * (a + b);
+  };
+  int rounds = 0;
+  for (; rounds < 20; ++rounds) {
+    const double f0 = best_f, tau0 = best_tau;
+    best_f = golden([&](double f) { return projected_cost(pr, y, f, best_tau, nullptr); },
+                    std::max(0.0, best_f - 0.1), std::min(0.999, best_f + 0.1));
+    const double lt = golden([&](double u) { return projected_cost(pr, y, best_f, std::exp(u), nullptr); },
+                             std::log(best_tau) - 1.0, std::log(best_tau) + 1.0);
+    best_tau = std::exp(lt);
+    if (std::abs(best_f - f0) < 1e-7 && std::abs(best_tau - tau0) < 1e-7 * tau0) break;
+  }
+  return rounds + 1;
+}
+
+}  // namespace
+
+ClearingIdentification identify_clearing(const RunHistory& h) {
+  Problem pr{h, {}, {}, {}, {}, {}};
+  for (const auto& hold : h.holds) pr.knots.push_back(hold.displacement_mm);
+  std::sort(pr.knots.begin(), pr.knots.end());
+  pr.knots.erase(
+      std::unique(pr.knots.begin(), pr.knots.end(), [](double a, double b) { return b - a < 1e-4; }),
+      pr.knots.end());
+  if (pr.knots.size() < 2)
+    throw Error(fmt::format("run {}: {} held displacement(s); the clearing needs two or more", h.run_id,
+                            pr.knots.size()));
+  std::vector<std::pair<std::size_t, std::size_t>> segments;
+  for (std::size_t i = 0; i < h.holds.size(); ++i) {
+    const double from = h.tester_t_s[h.holds[i].first], to = h.tester_t_s[h.holds[i].last];
+    const std::size_t first_row = pr.rows.size();
+    for (std::size_t k = 0; k < h.power_t_s.size(); ++k) {
+      if (h.power_t_s[k] < from || h.power_t_s[k] > to) continue;
+      pr.rows.push_back(k);
+      pr.d_at_row.push_back(interpolate(h.tester_t_s, h.displacement_mm, h.power_t_s[k]));
+      pr.hold_of.push_back(i);
+    }
+    if (pr.rows.size() > first_row) segments.emplace_back(first_row, pr.rows.size() - 1);
+  }
+  const std::size_t n_par = pr.knots.size() + 2;
+  if (pr.rows.size() <= n_par)
+    throw Error(
+        fmt::format("run {}: {} transmission readings in the holds for {} unknowns (a power meter "
+                    "recording is needed)",
+                    h.run_id, pr.rows.size(), n_par));
+  Eigen::VectorXd y(static_cast<Eigen::Index>(pr.rows.size()));
+  for (std::size_t r = 0; r < pr.rows.size(); ++r)
+    y(static_cast<Eigen::Index>(r)) = h.transmission[pr.rows[r]];
+
+  // A meter's noise grows with the light (a relative noise, as most have): each hold gets its
+  // own noise level, estimated from its residuals after an unweighted pass, and the second
+  // pass weighs its readings by it. One pooled level would understate the errors of what the
+  // brighter holds determine (the delayed share and its time) and overstate the rest.
+  pr.weight.assign(pr.rows.size(), 1.0);
+  double best_f = 0, best_tau = span_of(h) / 4;
+  int iterations = 0;
+  std::vector<double> hold_sigma(h.holds.size(), 0.0);
+  for (int pass = 0; pass < 2; ++pass) {
+    iterations += search(pr, y, best_f, best_tau);
+    Eigen::VectorXd x;
+    projected_cost(pr, y, best_f, best_tau, &x);
+    const Eigen::VectorXd r = y - pr.basis(best_f, best_tau) * x;
+    std::vector<double> sq(h.holds.size(), 0.0), count(h.holds.size(), 0.0);
+    for (std::size_t k = 0; k < pr.rows.size(); ++k) {
+      sq[pr.hold_of[k]] += r(static_cast<Eigen::Index>(k)) * r(static_cast<Eigen::Index>(k));
+      count[pr.hold_of[k]] += 1;
+    }
+    // Each hold's share of the fitted parameters comes off its degrees of freedom.
+    const double share = static_cast<double>(n_par) / static_cast<double>(segments.size());
+    for (std::size_t i = 0; i < h.holds.size(); ++i)
+      hold_sigma[i] = count[i] > share + 1 ? std::sqrt(sq[i] / (count[i] - share)) : 0.0;
+    double floor = 0;
+    for (double sd : hold_sigma) floor = std::max(floor, 1e-3 * sd);
+    for (std::size_t k = 0; k < pr.rows.size(); ++k)
+      pr.weight[k] = 1.0 / std::max(hold_sigma[pr.hold_of[k]], std::max(floor, 1e-12));
+  }
+  Eigen::VectorXd t_eq;
+  const double rss = projected_cost(pr, y, best_f, best_tau, &t_eq);
+
+  // Jacobian in (f, tau_w, T_eq): the basis for the T_eq, central differences for f and tau_w.
+  const auto nr = static_cast<Eigen::Index>(pr.rows.size());
+  Eigen::MatrixXd jac(nr, static_cast<Eigen::Index>(n_par));
+  const Eigen::MatrixXd b0 = pr.basis(best_f, best_tau);
+  const double hf = 1e-4, ht = 1e-4 * best_tau;
+  jac.col(0) = (pr.basis(std::min(best_f + hf, 1.0), best_tau) * t_eq -
+                pr.basis(std::max(best_f - hf, 0.0), best_tau) * t_eq) /
+               (std::min(best_f + hf, 1.0) - std::max(best_f - hf, 0.0));
+  jac.col(1) = (pr.basis(best_f, best_tau + ht) * t_eq - pr.basis(best_f, best_tau - ht) * t_eq) / (2 * ht);
+  jac.rightCols(static_cast<Eigen::Index>(pr.knots.size())) = b0;
+  const Eigen::VectorXd fitted = b0 * t_eq;
+  const Eigen::VectorXd r = y - fitted;
+  const Eigen::VectorXd w = Eigen::Map<const Eigen::VectorXd>(pr.weight.data(), nr);
+  const Eigen::VectorXd weighted = w.cwiseProduct(r);
+
+  ClearingIdentification out;
+  auto& rep = out.report;
+  rep.observations = pr.rows.size();
+  rep.iterations = iterations;
+  rep.converged = iterations < 40;  // neither pass ran out of its 20 rounds
+  const double dof = static_cast<double>(pr.rows.size() - n_par);
+  const double sigma2 = rss / dof;  // of the weighted residuals: about 1 when the weights are right
+  rep.noise_sigma = std::sqrt(r.squaredNorm() / dof);
+  rep.residual_rms = std::sqrt(r.squaredNorm() / static_cast<double>(pr.rows.size()));
+  std::vector<double> res(weighted.data(), weighted.data() + weighted.size());
+  rep.autocorrelation = lag1_autocorrelation(res, segments);
+  rep.variance_inflation =
+      rep.autocorrelation > 0 ? (1 + rep.autocorrelation) / (1 - rep.autocorrelation) : 1.0;
+  rep.parameters.push_back({"delayed_clearing", "share of each change of T that waits for the water to drain",
+                            best_f, 0, 0, 0, kShareRange, false, ""});
+  rep.parameters.push_back({"delayed_clearing_time_s", "time constant of the delayed share", best_tau, 0, 0,
+                            0, kTimeRange, false, ""});
+  for (std::size_t j = 0; j < pr.knots.size(); ++j)
+    rep.parameters.push_back({fmt::format("T_eq_at_{:.3f}_mm", pr.knots[j]),
+                              fmt::format("equilibrium transmission at {:.3f} mm", pr.knots[j]),
+                              t_eq(static_cast<Eigen::Index>(j)), 0, 0, 0, kTransmissionRange, false, ""});
+  const Eigen::MatrixXd cov = least_squares_covariance(w.asDiagonal() * jac, sigma2 * rep.variance_inflation);
+  apply_covariance(rep, cov);
+  out.displacement_mm = pr.knots;
+  out.T_eq.assign(t_eq.data(), t_eq.data() + t_eq.size());
+  const auto nk = static_cast<Eigen::Index>(pr.knots.size());
+  out.T_eq_covariance = cov.bottomRightCorner(nk, nk);
+  out.delayed_clearing = best_f;
+  out.delayed_clearing_time_s = best_tau;
+  const auto means = window_means(h, out, out.T_eq);
+  for (std::size_t i = 0; i < h.holds.size(); ++i) {
+    ClearingIdentification::Window win;
+    win.step_index = h.holds[i].step_index;
+    win.displacement_mm = h.holds[i].displacement_mm;
+    win.fitted = means[i];
+    double sum = 0, sq = 0;
+    const double from = h.tester_t_s[h.holds[i].record_first], to = h.tester_t_s[h.holds[i].last];
+    for (std::size_t k = 0; k < h.power_t_s.size(); ++k)
+      if (h.power_t_s[k] >= from && h.power_t_s[k] <= to) {
+        sum += h.transmission[k];
+        sq += h.transmission[k] * h.transmission[k];
+        ++win.readings;
+      }
+    if (win.readings > 1) {
+      const double n = static_cast<double>(win.readings);
+      win.measured = sum / n;
+      win.measured_se = std::sqrt(std::max(0.0, sq / n - win.measured * win.measured) / (n - 1));
+    } else {
+      win.measured = win.readings ? sum : std::nan("");
+      win.measured_se = std::nan("");
+    }
+    out.windows.push_back(win);
+  }
+  return out;
+}
+
+std::vector<double> window_means(const RunHistory& h, const ClearingIdentification& c,
+                                 const std::vector<double>& T_eq) {
+  const auto lag = sim::material::prony_history(h.tester_t_s, h.displacement_mm, c.delayed_clearing_time_s);
+  const double f = c.delayed_clearing;
+  auto te = [&](double d) { return interpolate(c.displacement_mm, T_eq, d); };
+  std::vector<double> means;
+  for (const auto& hold : h.holds) {
+    const double from = h.tester_t_s[hold.record_first], to = h.tester_t_s[hold.last];
+    double sum = 0;
+    std::size_t n = 0;
+    for (std::size_t k = 0; k < h.power_t_s.size(); ++k) {
+      const double t = h.power_t_s[k];
+      if (t < from || t > to) continue;
+      const double d = interpolate(h.tester_t_s, h.displacement_mm, t);
+      const double dd = d - interpolate(h.tester_t_s, lag, t);
+      sum += (1 - f) * te(d) + f * te(dd);
+      ++n;
+    }
+    means.push_back(n ? sum / static_cast<double>(n) : std::nan(""));
+  }
+  return means;
+}
+
+nlohmann::json to_json(const ClearingIdentification& c) {
+  nlohmann::json windows = nlohmann::json::array();
+  for (const auto& w : c.windows)
+    windows.push_back(
+        {{"step", w.step_index + 1},
+         {"displacement_mm", w.displacement_mm},
+         {"measured_T", w.measured},
+         {"measured_T_se", std::isfinite(w.measured_se) ? nlohmann::json(w.measured_se) : nlohmann::json()},
+         {"fitted_T", w.fitted},
+         {"readings", w.readings}});
+  nlohmann::json j = to_json(c.report);
+  j["model"] = "T = (1 - f) T_eq(d) + f T_eq(dd), dd' = (d - dd) / tau_w";
+  j["windows"] = windows;
+  return j;
+}
+
+}  // namespace tocd::analysis

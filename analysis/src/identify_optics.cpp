@@ -1,0 +1,267 @@
+// Clearing optics of the graded model from the equilibrium transmissions (identify_optics.hpp).
+#include "tocd/analysis/identify_optics.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "tocd/core/error.hpp"
+#include "tocd/sim/study/predictor.hpp"
+#include "tocd/sim/study/study_optics.hpp"
+
+namespace tocd::analysis {
+
+namespace {
+
+namespace st = tocd::sim::study;
+
+constexpr int kParameters = 4;
+// What compressed skin's clearing could be before a run is seen: mu_a and mu_s fall to a
+// fraction of native, n rises towards dry collagen's (about 1.55 = 1.12 x 1.38).
+const PlausibleRange kRanges[kParameters] = {
+    {0.1, 1.0, false}, {0.1, 1.0, false}, {1.0, 1.13, false}, {0.1, 1.0, false}};
+const char* kNames[kParameters] = {"cleared_mu_a_fraction", "cleared_mu_s_fraction", "cleared_n_fraction",
+                                   "full_clearing_strain"};
+const char* kDescriptions[kParameters] = {"fully cleared mu_a / native", "fully cleared mu_s / native",
+                                          "fully cleared n / native",
+                                          "compressive log strain of full clearing"};
+// Central-difference steps of the common-random-number derivatives.
+constexpr double kStepN = 0.01, kStepStrain = 0.03;
+
+st::GradedOptics graded(const Eigen::Vector4d& theta) {
+  st::GradedOptics g;
+  g.cleared = g.native;
+  g.cleared.mu_a_per_mm = theta(0) * g.native.mu_a_per_mm;
+  g.cleared.mu_s_per_mm = theta(1) * g.native.mu_s_per_mm;
+  g.cleared.n = theta(2) * g.native.n;
+  g.cleared.name = "cleared skin";
+  g.full_strain = theta(3);
+  return g;
+}
+
+sim::material::OgdenParameters scaled_law(double scale) {
+  auto m = st::published_skin_material();
+  for (double& mu : m.mu) mu *= scale;
+  for (double& d : m.D) d /= scale;
+  return m;
+}
+
+struct Evaluation {
+  Eigen::VectorXd T, se;
+  Eigen::MatrixXd jacobian;  // knots x parameters
+};
+
+class Model {
+ public:
+  Model(const RunHistory& h, const std::vector<double>& knots, double scale, const OpticsOptions& o)
+      : h_(h), knots_(knots), scale_(scale), o_(o), predictor_(1) {
+    auto base = request(0.0, graded({0.6, 0.6, 1.1, 0.5}));
+    base.baseline = true;
+    const auto b = predictor_.predict(base);
+    ++runs;
+    if (!(b.T > 0)) throw Error("the glass-only baseline transmits nothing");
+    base_T_ = b.T;
+    base_rel_se_ = b.T_stderr / b.T;
+  }
+
+  Evaluation evaluate(const Eigen::Vector4d& theta) {
+    const auto nk = static_cast<Eigen::Index>(knots_.size());
+    Evaluation e{Eigen::VectorXd(nk), Eigen::VectorXd(nk), Eigen::MatrixXd::Zero(nk, kParameters)};
+    const st::GradedOptics g = graded(theta);
+    for (Eigen::Index j = 0; j < nk; ++j) {
+      const double d = knots_[static_cast<std::size_t>(j)];
+      auto r = request(d, g);
+      r.transmittance_derivatives = true;
+      const auto p = predictor_.predict(r);
+      ++runs;
+      e.T(j) = p.T / base_T_;
+      e.se(j) = e.T(j) * std::hypot(p.T_stderr / std::max(p.T, 1e-300), base_rel_se_);
+      for (int k = 1; k <= g.bins; ++k) {
+        const auto it = p.dT_dmu.find(st::kGradedRegionBase + k);
+        if (it == p.dT_dmu.end()) continue;
+        const double share = static_cast<double>(k) / g.bins;
+        e.jacobian(j, 0) += it->second.dT_dmu_a.mean * share * g.native.mu_a_per_mm / base_T_;
+        e.jacobian(j, 1) += it->second.dT_dmu_s.mean * share * g.native.mu_s_per_mm / base_T_;
+      }
+      e.jacobian(j, 2) = difference(d, theta, 2, kStepN);
+      e.jacobian(j, 3) = difference(d, theta, 3, kStepStrain);
+    }
+    return e;
+  }
+
+  int runs = 0;
+
+ private:
+  st::PredictionRequest request(double d, const st::GradedOptics& g) const {
+    st::PredictionRequest r;
+    r.displacement_mm = d;
+    r.thickness_mm = h_.thickness_mm;
+    r.material = scaled_law(scale_);
+    r.optics_model = "graded";
+    r.graded = g;
+    r.photons = o_.photons;
+    r.seed = o_.seed;
+    r.threads = o_.threads;
+    r.mesh_preset = o_.mesh_preset;
+    r.pin_radius_mm = o_.pin_radius_mm;
+    return r;
+  }
+
+  // Central difference in parameter k with the same seed on both sides (common random numbers).
+  double difference(double d, const Eigen::Vector4d& theta, int k, double step) {
+    Eigen::Vector4d up = theta, down = theta;
+    up(k) += step;
+    down(k) -= step;
+    const double t_up = predictor_.predict(request(d, graded(up))).T;
+    const double t_down = predictor_.predict(request(d, graded(down))).T;
+    runs += 2;
+    return (t_up - t_down) / (2 * step * base_T_);
+  }
+
+  const RunHistory& h_;
+  std::vector<double> knots_;
+  double scale_;
+  OpticsOptions o_;
+  st::Predictor predictor_;
+  double base_T_ = 1, base_rel_se_ = 0;
+};
+
+// Student's t 0.975 quantile (two-sided 95 %) for `dof` degrees of freedom: tabulated to 30,
+// then the Cornish-Fisher expansion z + (z^3 + z) / (4 dof), within 0.001 of it beyond.
+double t_quantile_975(int dof) {
+  static constexpr double table[] = {12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
+                                     2.201,  2.179, 2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086,
+                                     2.080,  2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042};
+  if (dof >= 1 && dof <= 30) return table[dof - 1];
+  const double z = 1.959963984540054;
+  return z + (z * z * z + z) / (4.0 * dof);
+}
+
+Eigen::Vector4d clamp_to_ranges(Eigen::Vector4d theta) {
+  for (int k = 0; k < kParameters; ++k)
+    theta(k) = std::clamp(theta(k), kRanges[k].lo + 1e-3 * (kRanges[k].hi - kRanges[k].lo),
+                          kRanges[k].hi - 1e-3 * (kRanges[k].hi - kRanges[k].lo));
+  return theta;
+}
+
+}  // namespace
+
+OpticsIdentification identify_optics(const RunHistory& history, const ClearingIdentification& clearing,
+                                     double stiffness_scale, const OpticsOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto nk = static_cast<Eigen::Index>(clearing.displacement_mm.size());
+  if (nk < kParameters)
+    throw Error(fmt::format("run {}: {} held displacements for {} optical parameters", history.run_id, nk,
+                            kParameters));
+  auto say = [&](const std::string& line) {
+    if (options.progress) options.progress(line);
+  };
+  Model model(history, clearing.displacement_mm, stiffness_scale, options);
+  const Eigen::VectorXd y = Eigen::Map<const Eigen::VectorXd>(clearing.T_eq.data(), nk);
+  // The published most cleared state (the model note's simulation 11) as the start.
+  Eigen::Vector4d theta(0.6, 0.6, 1.1, 0.5);
+  Evaluation e;
+  Eigen::MatrixXd info;
+  int iteration = 0;
+  bool converged = false;
+  for (iteration = 1; iteration <= options.max_iterations; ++iteration) {
+    say(fmt::format(
+        "optics iteration {}: mu_a x{:.3f}, mu_s x{:.3f}, n x{:.4f}, full clearing at log strain {:.3f}",
+        iteration, theta(0), theta(1), theta(2), theta(3)));
+    e = model.evaluate(theta);
+    Eigen::MatrixXd c = clearing.T_eq_covariance;
+    c.diagonal() += e.se.cwiseProduct(e.se);
+    const Eigen::MatrixXd w = c.inverse();
+    info = e.jacobian.transpose() * w * e.jacobian;
+    const Eigen::VectorXd g = e.jacobian.transpose() * w * (y - e.T);
+    Eigen::MatrixXd damped = info;
+    damped.diagonal() *= 1.0 + 1e-3;
+    const Eigen::Vector4d step = damped.ldlt().solve(g);
+    const Eigen::Vector4d next = clamp_to_ranges(theta + step);
+    // Converged when no parameter moves by more than a fifth of its standard error.
+    const Eigen::VectorXd se = info.inverse().diagonal().cwiseMax(0).cwiseSqrt();
+    const bool small = ((next - theta).cwiseAbs().array() <= 0.2 * se.array()).all();
+    theta = next;
+    if (small) {
+      converged = true;
+      e = model.evaluate(theta);
+      break;
+    }
+  }
+  if (!converged) e = model.evaluate(theta);
+
+  Eigen::MatrixXd c = clearing.T_eq_covariance;
+  c.diagonal() += e.se.cwiseProduct(e.se);
+  const Eigen::MatrixXd w = c.inverse();
+  const Eigen::VectorXd r = y - e.T;
+  OpticsIdentification out;
+  out.chi2 = r.dot(w * r);
+  out.dof = static_cast<int>(nk) - kParameters;
+  const double birge = out.dof > 0 ? std::max(1.0, out.chi2 / out.dof) : 1.0;
+  const double z = out.dof > 0 ? t_quantile_975(out.dof) : 1.959963984540054;
+  auto& rep = out.report;
+  rep.observations = static_cast<std::size_t>(nk);
+  rep.iterations = std::min(iteration, options.max_iterations);
+  rep.converged = converged;
+  rep.residual_rms = std::sqrt(r.squaredNorm() / static_cast<double>(nk));
+  rep.noise_sigma = std::sqrt(birge);  // in units of the known errors
+  for (int k = 0; k < kParameters; ++k)
+    rep.parameters.push_back({kNames[k], kDescriptions[k], theta(k), 0, 0, 0, kRanges[k], false, ""});
+  // Covariance of the generalised least squares: (J^T W J)^-1, through the scaled inverse that
+  // leaves out what the data do not see (a Cholesky factor of W turns it into ordinary LS).
+  const Eigen::MatrixXd l = Eigen::LLT<Eigen::MatrixXd>(w).matrixU();
+  apply_covariance(rep, least_squares_covariance(l * e.jacobian, birge), z);
+
+  out.displacement_mm = clearing.displacement_mm;
+  out.T_eq = clearing.T_eq;
+  out.T_model.assign(e.T.data(), e.T.data() + e.T.size());
+  out.T_model_se.assign(e.se.data(), e.se.data() + e.se.size());
+  const auto predicted = window_means(history, clearing, out.T_model);
+  for (std::size_t i = 0; i < clearing.windows.size(); ++i) {
+    OpticsIdentification::Step s;
+    s.step_index = clearing.windows[i].step_index;
+    s.displacement_mm = clearing.windows[i].displacement_mm;
+    s.measured_T = clearing.windows[i].measured;
+    s.measured_T_se = clearing.windows[i].measured_se;
+    s.predicted_T = predicted[i];
+    // The window mean leans on the step's own knot: its Monte Carlo error carries over.
+    const auto at =
+        std::lower_bound(out.displacement_mm.begin(), out.displacement_mm.end(), s.displacement_mm - 1e-4);
+    s.predicted_T_se = at == out.displacement_mm.end()
+                           ? std::nan("")
+                           : out.T_model_se[static_cast<std::size_t>(at - out.displacement_mm.begin())];
+    out.steps.push_back(s);
+  }
+  out.monte_carlo_runs = model.runs;
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+nlohmann::json to_json(const OpticsIdentification& o) {
+  nlohmann::json steps = nlohmann::json::array();
+  for (const auto& s : o.steps)
+    steps.push_back({{"step", s.step_index + 1},
+                     {"displacement_mm", s.displacement_mm},
+                     {"measured_T", s.measured_T},
+                     {"measured_T_se",
+                      std::isfinite(s.measured_T_se) ? nlohmann::json(s.measured_T_se) : nlohmann::json()},
+                     {"predicted_T", s.predicted_T},
+                     {"predicted_T_se", std::isfinite(s.predicted_T_se) ? nlohmann::json(s.predicted_T_se)
+                                                                        : nlohmann::json()}});
+  nlohmann::json j = to_json(o.report);
+  j["model"] = "strain-graded optics (8 levels) on the FE geometry of each held step, Monte Carlo";
+  j["equilibrium"] = {{"displacement_mm", o.displacement_mm},
+                      {"T_eq_measured", o.T_eq},
+                      {"T_eq_model", o.T_model},
+                      {"T_eq_model_se", o.T_model_se}};
+  j["chi2"] = o.chi2;
+  j["dof"] = o.dof;
+  j["steps"] = steps;
+  j["monte_carlo_runs"] = o.monte_carlo_runs;
+  j["seconds"] = o.seconds;
+  return j;
+}
+
+}  // namespace tocd::analysis
