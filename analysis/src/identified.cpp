@@ -59,6 +59,14 @@ double lag1_autocorrelation(const std::vector<double>& r,
   return den > 0 ? num / den : 0.0;
 }
 
+void set_autocorrelation(ParameterReport& report, const Eigen::VectorXd& residuals,
+                         const std::vector<std::pair<std::size_t, std::size_t>>& segments) {
+  const std::vector<double> r(residuals.data(), residuals.data() + residuals.size());
+  report.autocorrelation = lag1_autocorrelation(r, segments);
+  report.variance_inflation =
+      report.autocorrelation > 0 ? (1 + report.autocorrelation) / (1 - report.autocorrelation) : 1.0;
+}
+
 void apply_covariance(ParameterReport& report, const Eigen::MatrixXd& cov, double z) {
   const auto n = static_cast<Eigen::Index>(report.parameters.size());
   if (cov.rows() != n || cov.cols() != n)

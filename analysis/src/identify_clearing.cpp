@@ -220,10 +220,7 @@ ClearingIdentification identify_clearing(const RunHistory& h) {
   const double sigma2 = rss / dof;  // of the weighted residuals: about 1 when the weights are right
   rep.noise_sigma = std::sqrt(r.squaredNorm() / dof);
   rep.residual_rms = std::sqrt(r.squaredNorm() / static_cast<double>(pr.rows.size()));
-  std::vector<double> res(weighted.data(), weighted.data() + weighted.size());
-  rep.autocorrelation = lag1_autocorrelation(res, segments);
-  rep.variance_inflation =
-      rep.autocorrelation > 0 ? (1 + rep.autocorrelation) / (1 - rep.autocorrelation) : 1.0;
+  set_autocorrelation(rep, weighted, segments);
   rep.parameters.push_back({"delayed_clearing", "share of each change of T that waits for the water to drain",
                             best_f, 0, 0, 0, kShareRange, false, ""});
   rep.parameters.push_back({"delayed_clearing_time_s", "time constant of the delayed share", best_tau, 0, 0,

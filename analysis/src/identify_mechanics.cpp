@@ -294,10 +294,7 @@ MechanicsIdentification identify_mechanics(const RunHistory& history, const std:
   const double sigma2 = r.squaredNorm() / dof;
   rep.noise_sigma = std::sqrt(sigma2);
   rep.residual_rms = std::sqrt(r.squaredNorm() / static_cast<double>(pr.rows.size()));
-  std::vector<double> res(r.data(), r.data() + r.size());
-  rep.autocorrelation = lag1_autocorrelation(res, segments);
-  rep.variance_inflation =
-      rep.autocorrelation > 0 ? (1 + rep.autocorrelation) / (1 - rep.autocorrelation) : 1.0;
+  set_autocorrelation(rep, r, segments);
   rep.parameters.push_back({"load_offset_N", "load the cell reads with no sample load (after its tare)",
                             lm.p(0), 0, 0, 0, kOffsetRange, false, ""});
   rep.parameters.push_back({"stiffness_scale", "shear moduli of the published Ogden skin law times this",

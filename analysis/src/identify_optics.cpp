@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "tocd/core/error.hpp"
+#include "tocd/sim/material/stiffness_scale.hpp"
 #include "tocd/sim/study/predictor.hpp"
 #include "tocd/sim/study/study_optics.hpp"
 
@@ -39,13 +40,6 @@ st::GradedOptics graded(const Eigen::Vector4d& theta) {
   g.cleared.name = "cleared skin";
   g.full_strain = theta(3);
   return g;
-}
-
-sim::material::OgdenParameters scaled_law(double scale) {
-  auto m = st::published_skin_material();
-  for (double& mu : m.mu) mu *= scale;
-  for (double& d : m.D) d /= scale;
-  return m;
 }
 
 struct Evaluation {
@@ -98,7 +92,7 @@ class Model {
     st::PredictionRequest r;
     r.displacement_mm = d;
     r.thickness_mm = h_.thickness_mm;
-    r.material = scaled_law(scale_);
+    r.material = sim::material::scale_stiffness(st::published_skin_material(), scale_);
     r.optics_model = "graded";
     r.graded = g;
     r.photons = o_.photons;

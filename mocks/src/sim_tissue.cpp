@@ -9,17 +9,11 @@
 #include "tocd/core/error.hpp"
 #include "tocd/mocks/sim_tissue_cache.hpp"
 #include "tocd/sim/fe/solve.hpp"
+#include "tocd/sim/material/stiffness_scale.hpp"
 #include "tocd/sim/study/predictor.hpp"
 
 namespace tocd::mocks {
 namespace {
-
-sim::material::OgdenParameters scaled_material(double scale) {
-  sim::material::OgdenParameters m = sim::study::published_skin_material();
-  for (double& mu : m.mu) mu *= scale;
-  for (double& d : m.D) d /= scale;  // K scales with mu: same Poisson's ratio
-  return m;
-}
 
 // The published study's fully cleared state relative to native skin (simulation 11).
 constexpr double kPublishedMuAFraction = 0.6, kPublishedMuSFraction = 0.6, kPublishedNFraction = 1.1;
@@ -114,7 +108,8 @@ SimTissueTable prepare_tables(const SimTissueSpec& spec) {
   auto say = [&](const std::string& line) {
     if (spec.progress) spec.progress(line);
   };
-  const sim::material::OgdenParameters material = scaled_material(spec.stiffness_scale);
+  const sim::material::OgdenParameters material =
+      sim::material::scale_stiffness(sim::study::published_skin_material(), spec.stiffness_scale);
 
   // Load curve: one FE solve through every tabulated displacement.
   sim::fe::FeModel model = sim::fe::FeModel::published_default();

@@ -14,6 +14,7 @@
 #include "tocd/sim/fe/solve.hpp"
 #include "tocd/sim/material/hyperelastic.hpp"
 #include "tocd/sim/material/least_squares.hpp"
+#include "tocd/sim/material/stiffness_scale.hpp"
 
 namespace tocd::sim::fe {
 
@@ -153,13 +154,6 @@ struct Weighted {
   }
 };
 
-mat::OgdenParameters scaled(const mat::OgdenParameters& ref, double s) {
-  mat::OgdenParameters p = ref;
-  for (double& m : p.mu) m *= s;
-  for (double& d : p.D) d /= s;
-  return p;
-}
-
 }  // namespace
 
 InverseFitResult fit_material(const std::vector<PinCompressionData>& pins,
@@ -206,7 +200,7 @@ InverseFitResult fit_material(const std::vector<PinCompressionData>& pins,
   say(fmt::format("reference law scaled by {:.4g} to the data", s0));
 
   const int N = ogden_terms(o.model);
-  mat::OgdenParameters start = scaled(ref, s0);
+  mat::OgdenParameters start = mat::scale_stiffness(ref, s0);
   if (N > 0 && static_cast<int>(start.mu.size()) != N) {
     // Another number of terms: candidate shapes (stable, mu_i > 0: the one or two-term Ogden
     // closest to the reference's uniaxial curve, and a few alphas), each scaled to the data;
@@ -240,7 +234,7 @@ InverseFitResult fit_material(const std::vector<PinCompressionData>& pins,
       const auto fit = best_scale(shape);
       if (fit && fit->second < best) {
         best = fit->second;
-        start = scaled(shape, fit->first);
+        start = mat::scale_stiffness(shape, fit->first);
       }
     }
     if (!std::isfinite(best)) throw FeError("material fit: no starting law the FE can solve");
@@ -249,7 +243,7 @@ InverseFitResult fit_material(const std::vector<PinCompressionData>& pins,
 
   mat::LeastSquaresProblem pr;
   auto to_law = [&](const VectorXd& t) {
-    if (N == 0) return scaled(ref, t[0]);
+    if (N == 0) return mat::scale_stiffness(ref, t[0]);
     mat::OgdenParameters p;
     for (int i = 0; i < N; ++i) {
       p.mu.push_back(t[2 * i]);

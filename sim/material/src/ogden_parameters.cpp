@@ -4,8 +4,16 @@
 #include <fmt/format.h>
 
 #include "tocd/sim/material/ogden.hpp"
+#include "tocd/sim/material/stiffness_scale.hpp"
 
 namespace tocd::sim::material {
+
+OgdenParameters scale_stiffness(const OgdenParameters& law, double s) {
+  OgdenParameters p = law;
+  for (double& mu : p.mu) mu *= s;
+  for (double& d : p.D) d /= s;
+  return p;
+}
 
 OgdenParameters OgdenParameters::published_skin() {
   return {{-0.24098, 0.11934, 0.12379}, {-4.3681, -3.9035, -4.7275}, {18.80, 0.0, 0.0}};

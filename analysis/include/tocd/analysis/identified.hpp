@@ -64,6 +64,12 @@ Eigen::MatrixXd least_squares_covariance(const Eigen::MatrixXd& jacobian, double
 double lag1_autocorrelation(const std::vector<double>& residuals,
                             const std::vector<std::pair<std::size_t, std::size_t>>& segments);
 
+/// Sets report.autocorrelation (lag1_autocorrelation of `residuals` over `segments`) and the
+/// variance inflation it implies: (1 + rho) / (1 - rho) for rho > 0 (readings that follow each
+/// other carry less independent information), 1 otherwise.
+void set_autocorrelation(ParameterReport& report, const Eigen::VectorXd& residuals,
+                         const std::vector<std::pair<std::size_t, std::size_t>>& segments);
+
 nlohmann::json to_json(const ParameterReport& report);
 
 }  // namespace tocd::analysis
