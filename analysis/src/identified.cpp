@@ -47,22 +47,26 @@ Eigen::MatrixXd least_squares_covariance(const Eigen::MatrixXd& jacobian, double
   return cov;
 }
 
-double lag1_autocorrelation(const std::vector<double>& r,
+namespace {
+
+double lag1_autocorrelation(const Eigen::VectorXd& r,
                             const std::vector<std::pair<std::size_t, std::size_t>>& segments) {
   double num = 0, den = 0;
   for (const auto& [first, last] : segments) {
-    for (std::size_t k = first; k <= last && k < r.size(); ++k) {
-      den += r[k] * r[k];
-      if (k > first) num += r[k] * r[k - 1];
+    for (auto k = static_cast<Eigen::Index>(first); k <= static_cast<Eigen::Index>(last) && k < r.size();
+         ++k) {
+      den += r(k) * r(k);
+      if (k > static_cast<Eigen::Index>(first)) num += r(k) * r(k - 1);
     }
   }
   return den > 0 ? num / den : 0.0;
 }
 
+}  // namespace
+
 void set_autocorrelation(ParameterReport& report, const Eigen::VectorXd& residuals,
                          const std::vector<std::pair<std::size_t, std::size_t>>& segments) {
-  const std::vector<double> r(residuals.data(), residuals.data() + residuals.size());
-  report.autocorrelation = lag1_autocorrelation(r, segments);
+  report.autocorrelation = lag1_autocorrelation(residuals, segments);
   report.variance_inflation =
       report.autocorrelation > 0 ? (1 + report.autocorrelation) / (1 - report.autocorrelation) : 1.0;
 }

@@ -59,12 +59,8 @@ void apply_covariance(ParameterReport& report, const Eigen::MatrixXd& covariance
 /// parameters get an infinite variance.
 Eigen::MatrixXd least_squares_covariance(const Eigen::MatrixXd& jacobian, double sigma2);
 
-/// Lag-1 autocorrelation of residuals, over consecutive pairs within each of `segments`
-/// (index ranges [first, last] into `residuals`).
-double lag1_autocorrelation(const std::vector<double>& residuals,
-                            const std::vector<std::pair<std::size_t, std::size_t>>& segments);
-
-/// Sets report.autocorrelation (lag1_autocorrelation of `residuals` over `segments`) and the
+/// Sets report.autocorrelation (the lag-1 autocorrelation of `residuals`, over consecutive
+/// pairs within each of `segments`: index ranges [first, last] into them) and the
 /// variance inflation it implies: (1 + rho) / (1 - rho) for rho > 0 (readings that follow each
 /// other carry less independent information), 1 otherwise.
 void set_autocorrelation(ParameterReport& report, const Eigen::VectorXd& residuals,
