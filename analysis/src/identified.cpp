@@ -1,8 +1,10 @@
 // Intervals, determination and correlations of identified parameters (identified.hpp).
 #include "tocd/analysis/identified.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -71,6 +73,101 @@ void set_autocorrelation(ParameterReport& report, const Eigen::VectorXd& residua
       report.autocorrelation > 0 ? (1 + report.autocorrelation) / (1 - report.autocorrelation) : 1.0;
 }
 
+namespace {
+
+// Where a parameter's value lives for its interval: ln for log-scale parameters.
+struct Axis {
+  bool log = false;
+  double to_u(double v) const { return log ? std::log(v) : v; }
+  double to_v(double u) const { return log ? std::exp(u) : u; }
+};
+
+Axis axis_of(const IdentifiedParameter& p) {
+  return Axis{p.range.log_scale && p.value > 0 && p.range.lo > 0};
+}
+
+// The determination rule (PlausibleRange) on the parameter's interval; an end left open (the
+// profile did not reach it inside the plausible range) leaves it undetermined.
+void judge(IdentifiedParameter& p, const char* open_side = nullptr) {
+  const Axis ax = axis_of(p);
+  const double width = (ax.to_u(p.hi) - ax.to_u(p.lo)) / (ax.to_u(p.range.hi) - ax.to_u(p.range.lo));
+  p.determined = width < 0.25;
+  if (p.determined)
+    p.why_not.clear();
+  else if (open_side)
+    p.why_not = fmt::format("the run does not bound it {} inside the plausible range {:g} .. {:g}", open_side,
+                            p.range.lo, p.range.hi);
+  else
+    p.why_not = fmt::format("its 95 % interval spans {:.0f} % of the plausible range {:g} .. {:g}",
+                            100 * width, p.range.lo, p.range.hi);
+}
+
+// One end of a profile interval (apply_profile): where sqrt(rise) reaches z on side `dir`, or
+// nothing when the profile stays below it out to the plausible range's end.
+std::optional<double> profile_end(const IdentifiedParameter& p, const CostRise& rise, double z, int dir) {
+  const Axis ax = axis_of(p);
+  const double u0 = ax.to_u(p.value);
+  const double edge = ax.to_u(dir > 0 ? p.range.hi : p.range.lo);
+  if (!(dir * (edge - u0) > 0)) return std::nullopt;
+  auto g = [&](double u) {
+    const double r = rise(ax.to_v(u));
+    return std::isfinite(r) ? std::sqrt(std::max(r, 0.0)) - z : std::numeric_limits<double>::quiet_NaN();
+  };
+  const double se_u = ax.log ? p.se / p.value : p.se;
+  double step = std::isfinite(se_u) && se_u > 0 ? z * se_u : 0.05 * std::abs(edge - u0);
+  step = std::min(step, std::abs(edge - u0));
+  double ua = u0, ga = -z;
+  double ub = u0 + dir * step, gb = g(ub);
+  // Walk out by secant steps (each between a quarter and four times the last) until the
+  // crossing is bracketed; sqrt(rise) is close to linear near the estimate.
+  for (int evals = 1; !(gb >= 0); ++evals) {
+    if (std::isnan(gb) || ub == edge || evals > 40) return std::nullopt;
+    const double last = std::abs(ub - ua);
+    double delta = gb > ga ? (ub - ua) * (-gb) / (gb - ga) : 2 * (ub - ua);
+    delta = dir * std::clamp(std::abs(delta), 0.25 * last, 4 * last);
+    double next = ub + delta;
+    if (dir * (next - edge) > 0) next = edge;
+    ua = ub;
+    ga = gb;
+    ub = next;
+    gb = g(ub);
+  }
+  // Regula falsi with the Illinois halving (an end kept twice running has its value halved),
+  // to sqrt(rise) within 1e-3 of z.
+  int last_moved = 0;  // +1: ub moved last, -1: ua moved last
+  if (gb < 1e-3) return ax.to_v(ub);
+  for (int it = 0; it < 60; ++it) {
+    if (std::abs(ub - ua) < 1e-10 * (1 + std::abs(u0))) break;
+    const double m = ub - gb * (ub - ua) / (gb - ga);
+    const double gm = g(m);
+    if (std::isnan(gm)) return std::nullopt;
+    if (std::abs(gm) < 1e-3) return ax.to_v(m);
+    if (gm >= 0) {
+      ub = m;
+      gb = gm;
+      if (last_moved == +1) ga *= 0.5;
+      last_moved = +1;
+    } else {
+      ua = m;
+      ga = gm;
+      if (last_moved == -1) gb *= 0.5;
+      last_moved = -1;
+    }
+  }
+  return ax.to_v(0.5 * (ua + ub));
+}
+
+}  // namespace
+
+void apply_profile(IdentifiedParameter& p, const CostRise& rise, double z) {
+  const auto lo = profile_end(p, rise, z, -1);
+  const auto hi = profile_end(p, rise, z, +1);
+  p.interval = "profile";
+  p.lo = lo ? *lo : p.range.lo;
+  p.hi = hi ? *hi : p.range.hi;
+  judge(p, !lo && !hi ? "on either side" : !lo ? "below" : !hi ? "above" : nullptr);
+}
+
 void apply_covariance(ParameterReport& report, const Eigen::MatrixXd& cov, double z) {
   const auto n = static_cast<Eigen::Index>(report.parameters.size());
   if (cov.rows() != n || cov.cols() != n)
@@ -89,22 +186,16 @@ void apply_covariance(ParameterReport& report, const Eigen::MatrixXd& cov, doubl
           "the run carries no information on it (its column of the Jacobian is zero or "
           "a combination of the others)";
     } else {
-      double width = 0;
       if (p.range.log_scale && p.value > 0) {
         const double s = p.se / p.value;
         p.lo = p.value * std::exp(-z * s);
         p.hi = p.value * std::exp(z * s);
-        width = 2 * z * s / std::log(p.range.hi / p.range.lo);
       } else {
         p.lo = p.value - z * p.se;
         p.hi = p.value + z * p.se;
-        width = (p.hi - p.lo) / (p.range.hi - p.range.lo);
       }
-      p.determined = width < 0.25;
-      p.why_not = p.determined
-                      ? ""
-                      : fmt::format("its 95 % interval spans {:.0f} % of the plausible range {:g} .. {:g}",
-                                    100 * width, p.range.lo, p.range.hi);
+      p.interval = "wald";
+      judge(p);
     }
     for (Eigen::Index j = 0; j < n; ++j) {
       const double c = cov(i, j) / std::sqrt(cov(i, i) * cov(j, j));
@@ -123,6 +214,7 @@ nlohmann::json to_json(const ParameterReport& report) {
                         {"value", p.value},
                         {"se", number(p.se)},
                         {"ci95", {number(p.lo), number(p.hi)}},
+                        {"interval", p.interval},
                         {"plausible_range", {p.range.lo, p.range.hi}},
                         {"determined", p.determined}};
     if (!p.determined) j["why_not_determined"] = p.why_not;

@@ -84,6 +84,43 @@ double span_of(const RunHistory& h) {
   return std::max(1.0, h.tester_t_s.back() - h.tester_t_s.front());
 }
 
+// The minimum of a one-dimensional cost on [lo, hi] by golden sections (the cost unimodal there).
+template <class Cost>
+double golden(Cost cost, double lo, double hi) {
+  const double g = 0.5 * (std::sqrt(5.0) - 1);
+  double a = lo, b = hi, x1 = b - g * (b - a), x2 = a + g * (b - a), c1 = cost(x1), c2 = cost(x2);
+  for (int it = 0; it < 60 && b - a > 1e-10 * (1 + std::abs(a)); ++it) {
+    if (c1 < c2) {
+      b = x2;
+      x2 = x1;
+      c2 = c1;
+      x1 = b - g * (b - a);
+      c1 = cost(x1);
+    } else {
+      a = x1;
+      x1 = x2;
+      c1 = c2;
+      x2 = a + g * (b - a);
+      c2 = cost(x2);
+    }
+  }
+  return 0.5 * (a + b);
+}
+
+// The minimum of a one-dimensional cost near `centre`: golden sections on centre +- half
+// (within [lo, hi]), moved on while the minimum sits at an edge that is not a bound.
+template <class Cost>
+double minimum_near(Cost cost, double centre, double half, double lo, double hi) {
+  double x = centre;
+  for (int moves = 0; moves < 8; ++moves) {
+    const double a = std::max(lo, x - half), b = std::min(hi, x + half);
+    x = golden(cost, a, b);
+    const bool at_edge = (x - a < 0.02 * half && a > lo) || (b - x < 0.02 * half && b < hi);
+    if (!at_edge) break;
+  }
+  return x;
+}
+
 // Variable projection on a grid of (f, ln tau_w), then golden-section refinement of each in
 // turn until neither moves: the T_eq are solved exactly at every point. Returns the rounds.
 int search(const Problem& pr, const Eigen::VectorXd& y, double& best_f, double& best_tau) {
@@ -99,26 +136,6 @@ int search(const Problem& pr, const Eigen::VectorXd& y, double& best_f, double& 
         best_tau = tau;
       }
     }
-  auto golden = [&](auto cost, double lo, double hi) {
-    const double g = 0.5 * (std::sqrt(5.0) - 1);
-    double a = lo, b = hi, x1 = b - g * (b - a), x2 = a + g * (b - a), c1 = cost(x1), c2 = cost(x2);
-    for (int it = 0; it < 60 && b - a > 1e-10 * (1 + std::abs(a)); ++it) {
-      if (c1 < c2) {
-        b = x2;
-        x2 = x1;
-        c2 = c1;
-        x1 = b - g * (b - a);
-        c1 = cost(x1);
-      } else {
-        a = x1;
-        x1 = x2;
-        c1 = c2;
-        x2 = a + g * (b - a);
-        c2 = cost(x2);
-      }
-    }
-    return 0.5 * (a + b);
-  };
   int rounds = 0;
   for (; rounds < 20; ++rounds) {
     const double f0 = best_f, tau0 = best_tau;
@@ -130,6 +147,36 @@ int search(const Problem& pr, const Eigen::VectorXd& y, double& best_f, double& 
     if (std::abs(best_f - f0) < 1e-7 && std::abs(best_tau - tau0) < 1e-7 * tau0) break;
   }
   return rounds + 1;
+}
+
+// Profile intervals of the delayed share and its time (identified.hpp): each held while the
+// other is minimised near its last value and the T_eq are solved exactly. With holds shorter
+// than tau_w the share, the time and the T_eq trade off along a curved valley; the Wald
+// intervals of that valley undercover. The T_eq keep their Wald intervals: the model is
+// linear in them.
+void profile_intervals(const Problem& pr, const Eigen::VectorXd& y, double f, double tau, double rss_min,
+                       double residual_variance, ParameterReport& rep) {
+  const double lt0 = std::log(tau);
+  double warm_lt = lt0;
+  bool above = true;  // the side of the estimate the last profile point was on
+  if (std::isfinite(rep.parameters[0].se))
+    apply_profile(rep.parameters[0], [&](double share) {
+      if ((share > f) != above) warm_lt = lt0;  // a new side: from the estimate
+      above = share > f;
+      warm_lt = minimum_near([&](double u) { return projected_cost(pr, y, share, std::exp(u), nullptr); },
+                             warm_lt, 0.5, std::log(kTimeRange.lo), std::log(kTimeRange.hi));
+      return (projected_cost(pr, y, share, std::exp(warm_lt), nullptr) - rss_min) / residual_variance;
+    });
+  double warm_f = f;
+  above = true;
+  if (std::isfinite(rep.parameters[1].se))
+    apply_profile(rep.parameters[1], [&](double time) {
+      if ((time > tau) != above) warm_f = f;
+      above = time > tau;
+      warm_f = minimum_near([&](double share) { return projected_cost(pr, y, share, time, nullptr); }, warm_f,
+                            0.05, 0.0, 0.999);
+      return (projected_cost(pr, y, warm_f, time, nullptr) - rss_min) / residual_variance;
+    });
 }
 
 }  // namespace
@@ -167,32 +214,35 @@ ClearingIdentification identify_clearing(const RunHistory& h) {
     y(static_cast<Eigen::Index>(r)) = h.transmission[pr.rows[r]];
 
   // A meter's noise grows with the light (a relative noise, as most have): each hold gets its
-  // own noise level, estimated from its residuals after an unweighted pass, and the second
-  // pass weighs its readings by it. One pooled level would understate the errors of what the
-  // brighter holds determine (the delayed share and its time) and overstate the rest.
-  pr.weight.assign(pr.rows.size(), 1.0);
-  double best_f = 0, best_tau = span_of(h) / 4;
-  int iterations = 0;
-  std::vector<double> hold_sigma(h.holds.size(), 0.0);
-  for (int pass = 0; pass < 2; ++pass) {
-    iterations += search(pr, y, best_f, best_tau);
-    Eigen::VectorXd x;
-    projected_cost(pr, y, best_f, best_tau, &x);
-    const Eigen::VectorXd r = y - pr.basis(best_f, best_tau) * x;
-    std::vector<double> sq(h.holds.size(), 0.0), count(h.holds.size(), 0.0);
-    for (std::size_t k = 0; k < pr.rows.size(); ++k) {
-      sq[pr.hold_of[k]] += r(static_cast<Eigen::Index>(k)) * r(static_cast<Eigen::Index>(k));
-      count[pr.hold_of[k]] += 1;
-    }
-    // Each hold's share of the fitted parameters comes off its degrees of freedom.
-    const double share = static_cast<double>(n_par) / static_cast<double>(segments.size());
-    for (std::size_t i = 0; i < h.holds.size(); ++i)
-      hold_sigma[i] = count[i] > share + 1 ? std::sqrt(sq[i] / (count[i] - share)) : 0.0;
-    double floor = 0;
-    for (double sd : hold_sigma) floor = std::max(floor, 1e-3 * sd);
-    for (std::size_t k = 0; k < pr.rows.size(); ++k)
-      pr.weight[k] = 1.0 / std::max(hold_sigma[pr.hold_of[k]], std::max(floor, 1e-12));
+  // own noise level and its readings are weighed by it. One pooled level would understate the
+  // errors of what the brighter holds determine (the delayed share and its time) and overstate
+  // the rest. The level comes from the differences of successive readings (von Neumann's
+  // estimator: half their mean square is the noise variance when the signal changes slowly
+  // between readings, as a hold's clearing does over 0.1 s), not from a fit's residuals:
+  // residuals of a fit in the wrong valley are large where it misfits, and weights taken from
+  // them would hide that misfit and keep the search there.
+  std::vector<double> diff_sq(h.holds.size(), 0.0), diffs(h.holds.size(), 0.0);
+  for (std::size_t k = 1; k < pr.rows.size(); ++k) {
+    if (pr.hold_of[k] != pr.hold_of[k - 1]) continue;
+    const double dy = y(static_cast<Eigen::Index>(k)) - y(static_cast<Eigen::Index>(k - 1));
+    diff_sq[pr.hold_of[k]] += dy * dy;
+    diffs[pr.hold_of[k]] += 1;
   }
+  std::vector<double> hold_sigma(h.holds.size(), 0.0);
+  double largest = 0;
+  for (std::size_t i = 0; i < h.holds.size(); ++i) {
+    hold_sigma[i] = diffs[i] > 0 ? std::sqrt(diff_sq[i] / (2 * diffs[i])) : 0.0;
+    largest = std::max(largest, hold_sigma[i]);
+  }
+  // A hold too short for a difference, or a noiseless meter: the largest level, or 1.
+  const double fallback = largest > 0 ? largest : 1.0;
+  pr.weight.resize(pr.rows.size());
+  for (std::size_t k = 0; k < pr.rows.size(); ++k) {
+    const double sd = hold_sigma[pr.hold_of[k]];
+    pr.weight[k] = 1.0 / (sd > 1e-6 * fallback ? sd : fallback);
+  }
+  double best_f = 0, best_tau = span_of(h) / 4;
+  const int iterations = search(pr, y, best_f, best_tau);
   Eigen::VectorXd t_eq;
   const double rss = projected_cost(pr, y, best_f, best_tau, &t_eq);
 
@@ -215,7 +265,7 @@ ClearingIdentification identify_clearing(const RunHistory& h) {
   auto& rep = out.report;
   rep.observations = pr.rows.size();
   rep.iterations = iterations;
-  rep.converged = iterations < 40;  // neither pass ran out of its 20 rounds
+  rep.converged = iterations < 21;  // the refinement did not run out of its 20 rounds
   const double dof = static_cast<double>(pr.rows.size() - n_par);
   const double sigma2 = rss / dof;  // of the weighted residuals: about 1 when the weights are right
   rep.noise_sigma = std::sqrt(r.squaredNorm() / dof);
@@ -231,6 +281,7 @@ ClearingIdentification identify_clearing(const RunHistory& h) {
                               t_eq(static_cast<Eigen::Index>(j)), 0, 0, 0, kTransmissionRange, false, ""});
   const Eigen::MatrixXd cov = least_squares_covariance(w.asDiagonal() * jac, sigma2 * rep.variance_inflation);
   apply_covariance(rep, cov);
+  profile_intervals(pr, y, best_f, best_tau, rss, sigma2 * rep.variance_inflation, rep);
   out.displacement_mm = pr.knots;
   out.T_eq.assign(t_eq.data(), t_eq.data() + t_eq.size());
   const auto nk = static_cast<Eigen::Index>(pr.knots.size());

@@ -142,13 +142,15 @@ Eigen::VectorXd starting_point(const Problem& pr, const Eigen::VectorXd& y) {
 }
 
 // Levenberg-Marquardt in (c, s, g_i, ln tau_i): tau stays positive. Stops when a step changes
-// no parameter by more than 1e-9 of its size and the cost by less than 1e-12 of itself.
+// no parameter by more than 1e-9 of its size and the cost by less than 1e-12 of itself. A
+// `fixed` parameter (its index, for a profile) keeps its starting value.
 struct LmOutcome {
   Eigen::VectorXd p;
   int iterations = 0;
   bool converged = false;
 };
-LmOutcome levenberg_marquardt(const Problem& pr, const Eigen::VectorXd& y, Eigen::VectorXd p) {
+LmOutcome levenberg_marquardt(const Problem& pr, const Eigen::VectorXd& y, Eigen::VectorXd p,
+                              Eigen::Index fixed = -1) {
   auto to_search = [&](const Eigen::VectorXd& nat) {
     Eigen::VectorXd q = nat;
     for (int i = 0; i < pr.terms; ++i) q(3 + 2 * i) = std::log(nat(3 + 2 * i));
@@ -167,8 +169,10 @@ LmOutcome levenberg_marquardt(const Problem& pr, const Eigen::VectorXd& y, Eigen
   double cost = r.squaredNorm();
   for (out.iterations = 1; out.iterations <= 300; ++out.iterations) {
     for (int i = 0; i < pr.terms; ++i) j.col(3 + 2 * i) *= p(3 + 2 * i);  // d/d ln tau
-    const Eigen::MatrixXd a = j.transpose() * j;
+    if (fixed >= 0) j.col(fixed).setZero();
+    Eigen::MatrixXd a = j.transpose() * j;
     const Eigen::VectorXd b = j.transpose() * r;
+    if (fixed >= 0) a(fixed, fixed) = 1.0;  // its step solves to zero
     bool improved = false;
     for (int attempt = 0; attempt < 30 && !improved; ++attempt) {
       Eigen::MatrixXd damped = a;
@@ -176,7 +180,10 @@ LmOutcome levenberg_marquardt(const Problem& pr, const Eigen::VectorXd& y, Eigen
       const Eigen::VectorXd step = damped.ldlt().solve(b);
       const Eigen::VectorXd q_new = q + step;
       const Eigen::VectorXd p_new = to_natural(q_new);
-      if (!p_new.allFinite()) {
+      bool usable = p_new.allFinite();
+      for (int i = 0; i < pr.terms; ++i)  // a time the QLV recursion can take (1 us .. 3 years)
+        usable = usable && p_new(3 + 2 * i) > 1e-6 && p_new(3 + 2 * i) < 1e8;
+      if (!usable) {
         lambda *= 10;
         continue;
       }
@@ -209,6 +216,30 @@ LmOutcome levenberg_marquardt(const Problem& pr, const Eigen::VectorXd& y, Eigen
   }
   out.p = p;
   return out;
+}
+
+// Profile intervals of every parameter the covariance sees (identified.hpp): each value held
+// while Levenberg-Marquardt refits the others, warm-started from the last point on the same
+// side. With holds shorter than the relaxation, stiffness, overstress share and relaxation time
+// lie in a curved valley (correlations beyond 0.99) whose Wald intervals undercover.
+void profile_intervals(const Problem& pr, const Eigen::VectorXd& y, const Eigen::VectorXd& best,
+                       double residual_variance, ParameterReport& rep) {
+  const double rss_min = (y - pr.model(best, nullptr)).squaredNorm();
+  for (Eigen::Index k = 0; k < pr.parameters(); ++k) {
+    auto& param = rep.parameters[static_cast<std::size_t>(k)];
+    if (!std::isfinite(param.se)) continue;
+    Eigen::VectorXd warm = best;
+    bool above = true;  // the side of the estimate the last profile point was on
+    apply_profile(param, [&](double v) {
+      if ((v > best(k)) != above) warm = best;  // a new side: from the estimate
+      above = v > best(k);
+      Eigen::VectorXd start = warm;
+      start(k) = v;
+      const LmOutcome fit = levenberg_marquardt(pr, y, start, k);
+      warm = fit.p;
+      return ((y - pr.model(fit.p, nullptr)).squaredNorm() - rss_min) / residual_variance;
+    });
+  }
 }
 
 std::vector<double> held_displacements(const RunHistory& h) {
@@ -309,6 +340,7 @@ MechanicsIdentification identify_mechanics(const RunHistory& history, const std:
                               kTauRange, false, ""});
   }
   apply_covariance(rep, least_squares_covariance(j, sigma2 * rep.variance_inflation));
+  profile_intervals(pr, y, lm.p, sigma2 * rep.variance_inflation, rep);
 
   std::size_t row = 0;
   for (const auto& hold : history.holds) {

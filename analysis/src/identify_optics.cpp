@@ -18,7 +18,7 @@ namespace {
 
 namespace st = tocd::sim::study;
 
-constexpr int kParameters = 4;
+constexpr int kParameters = kOpticalParameters;
 // What compressed skin's clearing could be before a run is seen: mu_a and mu_s fall to a
 // fraction of native, n rises towards dry collagen's (about 1.55 = 1.12 x 1.38).
 const PlausibleRange kRanges[kParameters] = {
@@ -58,6 +58,20 @@ class Model {
     if (!(b.T > 0)) throw Error("the glass-only baseline transmits nothing");
     base_T_ = b.T;
     base_rel_se_ = b.T_stderr / b.T;
+  }
+
+  // T and its standard error at every knot, without the derivatives (a trial step).
+  Evaluation transmissions(const Eigen::Vector4d& theta) {
+    const auto nk = static_cast<Eigen::Index>(knots_.size());
+    Evaluation e{Eigen::VectorXd(nk), Eigen::VectorXd(nk), Eigen::MatrixXd()};
+    const st::GradedOptics g = graded(theta);
+    for (Eigen::Index j = 0; j < nk; ++j) {
+      const auto p = predictor_.predict(request(knots_[static_cast<std::size_t>(j)], g));
+      ++runs;
+      e.T(j) = p.T / base_T_;
+      e.se(j) = e.T(j) * std::hypot(p.T_stderr / std::max(p.T, 1e-300), base_rel_se_);
+    }
+    return e;
   }
 
   Evaluation evaluate(const Eigen::Vector4d& theta) {
@@ -154,37 +168,60 @@ OpticsIdentification identify_optics(const RunHistory& history, const ClearingId
   };
   Model model(history, clearing.displacement_mm, stiffness_scale, options);
   const Eigen::VectorXd y = Eigen::Map<const Eigen::VectorXd>(clearing.T_eq.data(), nk);
-  // The published most cleared state (the model note's simulation 11) as the start.
+  // The generalised least-squares cost of an evaluation: the T_eq's covariance plus the
+  // Monte Carlo variances of the model.
+  auto chi2_of = [&](const Evaluation& ev) {
+    Eigen::MatrixXd c = clearing.T_eq_covariance;
+    c.diagonal() += ev.se.cwiseProduct(ev.se);
+    const Eigen::VectorXd r = y - ev.T;
+    return r.dot(c.ldlt().solve(r));
+  };
+  // Levenberg-Marquardt from the published most cleared state (the model note's simulation 11).
+  // A trial step is kept only when it lowers the cost; with the same seed at every evaluation
+  // (common random numbers) the cost is a smooth function of the parameters, so the comparison
+  // is not lost in the Monte Carlo noise. Plain Gauss-Newton steps overshot on the demo run
+  // (mu_a and mu_s trade off, correlation -0.99) and wandered off to chi^2 of 170 for 3 dof.
   Eigen::Vector4d theta(0.6, 0.6, 1.1, 0.5);
-  Evaluation e;
-  Eigen::MatrixXd info;
+  Evaluation e = model.evaluate(theta);
+  double cost = chi2_of(e);
+  say(fmt::format(
+      "optics: start at mu_a x{:.3f}, mu_s x{:.3f}, n x{:.4f}, full clearing at log strain {:.3f}: "
+      "chi2 {:.3g}",
+      theta(0), theta(1), theta(2), theta(3), cost));
+  double lambda = 1e-2;
   int iteration = 0;
   bool converged = false;
   for (iteration = 1; iteration <= options.max_iterations; ++iteration) {
-    say(fmt::format(
-        "optics iteration {}: mu_a x{:.3f}, mu_s x{:.3f}, n x{:.4f}, full clearing at log strain {:.3f}",
-        iteration, theta(0), theta(1), theta(2), theta(3)));
-    e = model.evaluate(theta);
     Eigen::MatrixXd c = clearing.T_eq_covariance;
     c.diagonal() += e.se.cwiseProduct(e.se);
     const Eigen::MatrixXd w = c.inverse();
-    info = e.jacobian.transpose() * w * e.jacobian;
+    const Eigen::MatrixXd info = e.jacobian.transpose() * w * e.jacobian;
     const Eigen::VectorXd g = e.jacobian.transpose() * w * (y - e.T);
     Eigen::MatrixXd damped = info;
-    damped.diagonal() *= 1.0 + 1e-3;
-    const Eigen::Vector4d step = damped.ldlt().solve(g);
-    const Eigen::Vector4d next = clamp_to_ranges(theta + step);
-    // Converged when no parameter moves by more than a fifth of its standard error.
+    damped.diagonal() += lambda * info.diagonal().cwiseMax(1e-30);
+    const Eigen::Vector4d next = clamp_to_ranges(theta + Eigen::Vector4d(damped.ldlt().solve(g)));
+    const Evaluation trial = model.transmissions(next);
+    const double trial_cost = chi2_of(trial);
+    say(fmt::format(
+        "optics trial {}: mu_a x{:.3f}, mu_s x{:.3f}, n x{:.4f}, full clearing at log strain {:.3f}: "
+        "chi2 {:.3g} ({})",
+        iteration, next(0), next(1), next(2), next(3), trial_cost, trial_cost < cost ? "kept" : "not kept"));
+    if (!(trial_cost < cost)) {
+      lambda *= 10;
+      continue;
+    }
+    // Converged when no parameter moved by more than a fifth of its standard error.
     const Eigen::VectorXd se = info.inverse().diagonal().cwiseMax(0).cwiseSqrt();
     const bool small = ((next - theta).cwiseAbs().array() <= 0.2 * se.array()).all();
     theta = next;
+    e = model.evaluate(theta);
+    cost = chi2_of(e);
+    lambda = std::max(lambda / 10, 1e-6);
     if (small) {
       converged = true;
-      e = model.evaluate(theta);
       break;
     }
   }
-  if (!converged) e = model.evaluate(theta);
 
   Eigen::MatrixXd c = clearing.T_eq_covariance;
   c.diagonal() += e.se.cwiseProduct(e.se);

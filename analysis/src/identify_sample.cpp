@@ -3,6 +3,8 @@
 
 #include <chrono>
 
+#include <fmt/format.h>
+
 #include "tocd/analysis/run_history.hpp"
 
 namespace tocd::analysis {
@@ -22,7 +24,10 @@ SampleIdentification identify_sample(const db::Reader& reader, std::int64_t run_
       options.progress("clearing time course from the transmission readings in the holds");
     id.clearing = identify_clearing(history);
   }
-  if (id.clearing && options.optics) {
+  if (id.clearing && options.optics && id.clearing->displacement_mm.size() < kOpticalParameters) {
+    id.optics_not_identified = fmt::format("{} held displacement(s) for {} optical parameters",
+                                           id.clearing->displacement_mm.size(), kOpticalParameters);
+  } else if (id.clearing && options.optics) {
     OpticsOptions oo = options.monte_carlo;
     if (!oo.progress) oo.progress = options.progress;
     oo.pin_radius_mm = mo.pin_radius_mm;
@@ -39,6 +44,7 @@ nlohmann::json to_json(const SampleIdentification& id) {
                       {"seconds", id.seconds}};
   j["clearing"] = id.clearing ? to_json(*id.clearing) : nlohmann::json();
   j["optics"] = id.optics ? to_json(*id.optics) : nlohmann::json();
+  if (!id.optics_not_identified.empty()) j["optics_not_identified"] = id.optics_not_identified;
   return j;
 }
 

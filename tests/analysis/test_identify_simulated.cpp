@@ -6,10 +6,13 @@
 //
 // Default suite: three samples, the mechanics and the clearing's time course (the sample's
 // tables at 4,000 photons; the optics' Monte Carlo, minutes per sample, is left to the long
-// version); of the 15 interval checks at most 3 may miss (a calibrated 95 % interval misses
-// more than 3 times in 15 with probability 0.5 %). With TOCD_IDENTIFY_LONG (physics-long): twenty
-// samples at 50,000 photons with the optics, and each determined parameter may miss in at most
-// 3 of them (more than 3 in 20: probability 1.6 %).
+// version); each determined parameter may miss its truth in at most one of the three (a
+// calibrated 95 % interval misses twice or more in three with probability 0.7 %). With
+// TOCD_IDENTIFY_LONG (physics-long): twenty samples at 50,000 photons with the optics, and each
+// determined parameter may miss in at most 3 of them (more than 3 in 20: probability 1.6 %).
+// The count is per parameter, never over parameters pooled: within one sample the stiffness,
+// the overstress share and the relaxation time are correlated beyond 0.99 (short holds), so
+// one unlucky noise draw moves all three together and their misses are not independent.
 //
 // The runs go at clock factor 2: at 5, on a loaded two-core machine, the tester's readings of a
 // ramp arrive late enough to blur the relaxation history the mechanics rest on.
@@ -47,7 +50,7 @@ constexpr int kSamples = 3;
 constexpr std::uint64_t kPhotons = 4000;
 constexpr bool kOptics = false;
 #endif
-constexpr int kAllowedMisses = 3;  // per parameter (long) or in all (default)
+constexpr int kAllowedMisses = kSamples >= 20 ? 3 : 1;  // per parameter
 
 // The truth of each identified parameter, by the identification's names.
 std::map<std::string, double> truth_by_name(const mocks::SampleTruth& t) {
@@ -118,17 +121,10 @@ TEST(IdentifySimulatedSamples, DeterminedParametersCoverTheDrawnTruth) {
     EXPECT_TRUE(id.mechanics.report.at("stiffness_scale").determined) << "sample " << k;
     EXPECT_TRUE(id.mechanics.report.at("g1").determined) << "sample " << k;
   }
-  int all_missed = 0;
   for (const auto& [name, count] : determined) {
     std::cout << fmt::format("{:<24} determined in {} of {} samples, missed {}\n", name, count, kSamples,
                              missed[name]);
-    if (kOptics) {
-      EXPECT_LE(missed[name], kAllowedMisses) << name;
-    }
-    all_missed += missed[name];
-  }
-  if (!kOptics) {
-    EXPECT_LE(all_missed, kAllowedMisses);
+    EXPECT_LE(missed[name], kAllowedMisses) << name;
   }
   fs::remove_all(dir);
 }

@@ -200,12 +200,20 @@ TEST_F(CliJson, CompareWaterTimeCourse) {
 TEST_F(CliJson, DemoPrintsItsRunSummary) {
   const auto j = json_of(
       "demo --protocol protocol.toml --photons 500 --sample-photons 500 --clock-factor 20 --cache-dir cache "
-      "--db demo.db -o demo.csv --json");
+      "--identify-photons 1000 --db demo.db -o demo.csv --json");
   ASSERT_TRUE(j.contains("files"));
   EXPECT_EQ(j["files"]["csv"], "demo.csv");
   EXPECT_EQ(j["compare"]["steps"].size(), 2u);
   EXPECT_TRUE(j["compare"]["steps"][1]["predicted_T"].is_number());
   EXPECT_TRUE(fs::exists(dir_ / "demo.csv"));
+  // The identified sample of the recorded run rides in the same document (docs/identify.md).
+  ASSERT_TRUE(j.contains("identified"));
+  EXPECT_EQ(j["identified"]["run"], j["run_id"]);
+  EXPECT_TRUE(j["identified"]["mechanics"].is_object());
+  EXPECT_TRUE(j["identified"]["clearing"].is_object());
+  // Two held steps cannot give the four optical parameters: said, not thrown.
+  EXPECT_TRUE(j["identified"]["optics"].is_null());
+  EXPECT_TRUE(j["identified"].contains("optics_not_identified"));
 }
 
 namespace {

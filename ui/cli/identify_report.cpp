@@ -53,6 +53,8 @@ void print_identification(std::ostream& out, const analysis::SampleIdentificatio
     out << fmt::format("  transmission noise {:.4g}, residual autocorrelation {:.3f}\n", c.report.noise_sigma,
                        c.report.autocorrelation);
   }
+  if (!id.optics_not_identified.empty())
+    out << "Clearing optics: not identified (" << id.optics_not_identified << ")\n";
   if (id.optics) {
     const auto& o = *id.optics;
     out << fmt::format(

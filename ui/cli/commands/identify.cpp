@@ -21,6 +21,7 @@ struct IdentifyOptions {
   int prony_terms = 1;
   double pin_radius = 1.5;
   bool mechanics_only = false;
+  bool no_optics = false;
   std::uint64_t photons = 50000;
   std::uint64_t seed = 11;
   int threads = 0;
@@ -31,7 +32,8 @@ void identify(const IdentifyOptions& o) {
   tocd::analysis::SampleIdentificationOptions so;
   so.mechanics.prony_terms = o.prony_terms;
   so.mechanics.pin_radius_mm = o.pin_radius;
-  so.clearing = so.optics = !o.mechanics_only;
+  so.clearing = !o.mechanics_only;
+  so.optics = !o.mechanics_only && !o.no_optics;
   so.monte_carlo.photons = o.photons;
   so.monte_carlo.seed = o.seed;
   so.monte_carlo.threads = o.threads;
@@ -67,6 +69,8 @@ void install_identify(CLI::App& root) {
       ->capture_default_str()
       ->check(CLI::Range(0, 1024));
   cmd->add_flag("--mechanics-only", o->mechanics_only, "identify the mechanics alone (no Monte Carlo)");
+  cmd->add_flag("--no-optics", o->no_optics,
+                "the mechanics and the clearing's time course, not the optics (no Monte Carlo: seconds)");
   cmd->add_flag("--json", o->json, "print the identification as one JSON document");
   cmd->callback([o] { identify(*o); });
 }

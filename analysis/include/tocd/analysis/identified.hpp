@@ -3,6 +3,7 @@
 // A parameter identified from a run, reported with what the run says about it: its 95 %
 // interval, whether the run determines it at all, and how it moves with the others.
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,10 @@ struct IdentifiedParameter {
   PlausibleRange range;
   bool determined = false;
   std::string why_not;  ///< when not determined: what the run lacks
+  /// How lo and hi were found: "wald" (value +- z se from the covariance) or "profile" (where
+  /// the least-squares cost, minimised over every other parameter, has risen by z^2 residual
+  /// variances: the interval follows the valley the data leave, however curved).
+  std::string interval = "wald";
 };
 
 /// Parameters with their covariance, as estimated by a least-squares fit.
@@ -52,6 +57,24 @@ struct ParameterReport {
 /// on ln(value) for log-scale parameters.
 void apply_covariance(ParameterReport& report, const Eigen::MatrixXd& covariance,
                       double z = 1.959963984540054);
+
+/// The profile of a least-squares cost in one parameter: its lowest residual sum of squares
+/// with that parameter held at `value` and every other parameter free, less the fit's minimum,
+/// in units of the residual variance (sigma^2 times the variance inflation). NaN where no fit
+/// could be made at that value.
+using CostRise = std::function<double(double value)>;
+
+/// Replaces a parameter's interval by its profile-likelihood interval: the two values where
+/// `rise` reaches z^2 on either side of the estimate (about 3.84 for 95 %). Wald intervals of a
+/// nearly degenerate fit (a curved valley, as the stiffness, overstress share and relaxation
+/// time of a run with short holds leave) misstate their coverage; profile intervals keep it
+/// (Venzon and Moolgavkar 1988; Bates and Watts 1988, ch. 6). The search starts at the Wald
+/// ends and walks by secant steps on sqrt(rise) (on ln for log-scale parameters), then closes
+/// in on the crossing by regula falsi. Where the profile stays below z^2 out to the plausible
+/// range's end, the interval ends there (a share that may be 0, a time that may be anything
+/// longer). The determination rule (PlausibleRange) applies to the profile interval; se and
+/// the correlations stay those of the covariance.
+void apply_profile(IdentifiedParameter& parameter, const CostRise& rise, double z = 1.959963984540054);
 
 /// The covariance of a least-squares estimate: sigma^2 (J^T J)^-1, J the Jacobian of the model
 /// at the rows, in natural parameters. Columns are scaled to unit norm before the inverse and

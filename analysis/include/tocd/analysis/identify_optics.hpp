@@ -31,11 +31,17 @@ struct OpticsOptions {
   std::uint64_t photons = 50000;  ///< per held step and evaluation
   std::uint64_t seed = 11;
   int threads = 0;  ///< Monte Carlo threads (0: all cores)
-  int max_iterations = 5;
+  /// Levenberg-Marquardt trials (a trial costs one Monte Carlo run per held step; an accepted
+  /// one four more per step for the derivatives).
+  int max_iterations = 8;
   std::string mesh_preset = "fast";
   double pin_radius_mm = 1.5;
   std::function<void(const std::string&)> progress;
 };
+
+/// The optical parameters identified: the cleared mu_a, mu_s and n fractions and the full
+/// clearing strain. A run needs at least this many held displacements for them.
+inline constexpr int kOpticalParameters = 4;
 
 struct OpticsIdentification {
   /// cleared_mu_a_fraction, cleared_mu_s_fraction, cleared_n_fraction, full_clearing_strain.

@@ -32,6 +32,9 @@ struct SampleIdentification {
   MechanicsIdentification mechanics;
   std::optional<ClearingIdentification> clearing;  ///< when the run recorded transmission
   std::optional<OpticsIdentification> optics;      ///< with the clearing, unless asked not to
+  /// Why the optics were not identified although asked for (too few held displacements), or
+  /// empty. The mechanics and the clearing stand without them.
+  std::string optics_not_identified;
   double seconds = 0;
 };
 

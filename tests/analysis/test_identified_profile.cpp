@@ -1,0 +1,68 @@
+// Profile-likelihood intervals (identified.hpp) on cost profiles whose crossings are known in
+// closed form: the interval ends are where the profile rises by z^2, nothing else. The search
+// stops once sqrt(rise) is within 1e-3 of z, so each end is good to 1e-3 / |d sqrt(rise)/dv|.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "tocd/analysis/identified.hpp"
+
+namespace a = tocd::analysis;
+
+namespace {
+
+constexpr double kZ = 1.959963984540054;
+
+a::IdentifiedParameter parameter(double value, double se, a::PlausibleRange range) {
+  a::IdentifiedParameter p;
+  p.name = "x";
+  p.value = value;
+  p.se = se;
+  p.range = range;
+  return p;
+}
+
+}  // namespace
+
+TEST(ProfileInterval, AQuadraticProfileGivesTheWaldInterval) {
+  // rise = ((v - 2) / 0.1)^2: the crossing of z^2 is at 2 +- 0.1 z exactly.
+  auto p = parameter(2.0, 0.1, {0.0, 10.0, false});
+  a::apply_profile(p, [](double v) { return std::pow((v - 2.0) / 0.1, 2); });
+  EXPECT_EQ(p.interval, "profile");
+  EXPECT_NEAR(p.lo, 2.0 - 0.1 * kZ, 1e-3 * 0.1);
+  EXPECT_NEAR(p.hi, 2.0 + 0.1 * kZ, 1e-3 * 0.1);
+  EXPECT_TRUE(p.determined);
+}
+
+TEST(ProfileInterval, ACurvedValleyGivesItsOwnAsymmetricEnds) {
+  // rise = (ln(v / 30) / 0.2)^2 on a linear axis, with a Wald se (3) that knows nothing of the
+  // curvature: the ends are 30 exp(-+0.2 z) = 20.3 and 44.4, not 30 -+ 5.9.
+  auto p = parameter(30.0, 3.0, {0.0, 1000.0, false});
+  a::apply_profile(p, [](double v) { return v > 0 ? std::pow(std::log(v / 30.0) / 0.2, 2) : 1e300; });
+  const double lo = 30.0 * std::exp(-0.2 * kZ), hi = 30.0 * std::exp(0.2 * kZ);
+  EXPECT_NEAR(p.lo, lo, 1e-3 * 0.2 * lo);  // d sqrt(rise)/dv = 1 / (0.2 v)
+  EXPECT_NEAR(p.hi, hi, 1e-3 * 0.2 * hi);
+}
+
+TEST(ProfileInterval, AProfileThatStaysLowRunsToTheRangeAndIsNotDetermined) {
+  // The cost rises to at most 2 residual variances above the estimate: the run bounds
+  // nothing above it, and says so.
+  auto p = parameter(20.0, 2.0, {0.1, 1000.0, true});
+  a::apply_profile(p, [](double v) {
+    const double u = std::log(v / 20.0) / 0.1;
+    return v < 20.0 ? u * u : 2.0 * (1 - std::exp(-u * u));
+  });
+  const double lo = 20.0 * std::exp(-0.1 * kZ);
+  EXPECT_NEAR(p.lo, lo, 1e-3 * 0.1 * lo);
+  EXPECT_DOUBLE_EQ(p.hi, 1000.0);
+  EXPECT_FALSE(p.determined);
+  EXPECT_NE(p.why_not.find("above"), std::string::npos) << p.why_not;
+}
+
+TEST(ProfileInterval, AWideButClosedIntervalIsNotDetermined) {
+  // Closed on both sides, but half the plausible range wide: the run says little.
+  auto p = parameter(0.5, 0.15, {0.0, 1.0, false});
+  a::apply_profile(p, [](double v) { return std::pow((v - 0.5) / 0.15, 2); });
+  EXPECT_NEAR(p.hi - p.lo, 2 * 0.15 * kZ, 2 * 1e-3 * 0.15);
+  EXPECT_FALSE(p.determined);
+}
