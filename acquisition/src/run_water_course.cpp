@@ -9,8 +9,8 @@
 
 #include <fmt/format.h>
 
-#include "running_stats.hpp"
 #include "tocd/core/error.hpp"
+#include "tocd/core/running_stats.hpp"
 #include "tocd/sim/study/predictor.hpp"
 
 namespace tocd::acquisition {
