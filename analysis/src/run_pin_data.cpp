@@ -1,15 +1,15 @@
 // A recorded run as load/displacement data for the inverse FE fit (docs/fe.md, "Inverse FE fit").
-#include "tocd/acquisition/run_pin_data.hpp"
+#include "tocd/analysis/run_pin_data.hpp"
 
 #include <cmath>
 #include <numbers>
 
 #include <fmt/format.h>
 
-#include "tocd/acquisition/run_stress_strain.hpp"
+#include "tocd/analysis/run_stress_strain.hpp"
 #include "tocd/core/error.hpp"
 
-namespace tocd::acquisition {
+namespace tocd::analysis {
 
 RunLoadPoints parse_run_load_points(const std::string& s) {
   if (s == "held") return RunLoadPoints::held;
@@ -84,4 +84,4 @@ sim::fe::PinCompressionData pin_data_from_run(const db::Reader& reader, std::int
   return p;
 }
 
-}  // namespace tocd::acquisition
+}  // namespace tocd::analysis
