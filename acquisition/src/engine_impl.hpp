@@ -24,11 +24,11 @@
 #include "rate_window.hpp"
 #include "recorder.hpp"
 #include "run_control.hpp"
-#include "running_stats.hpp"
 #include "scaled_clock.hpp"
 #include "step_strategy.hpp"
 #include "stop_signal.hpp"
 #include "tocd/acquisition/engine.hpp"
+#include "tocd/core/running_stats.hpp"
 #include "window_check.hpp"
 
 namespace tocd::acquisition {

@@ -5,8 +5,8 @@
 
 #include <fmt/format.h>
 
-#include "running_stats.hpp"
 #include "tocd/core/error.hpp"
+#include "tocd/core/running_stats.hpp"
 
 namespace tocd::acquisition {
 

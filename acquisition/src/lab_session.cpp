@@ -1,9 +1,7 @@
 // The lab session: the one place where instruments, database, predictor and engine are wired.
 #include "tocd/acquisition/lab_session.hpp"
 
-#include <algorithm>
 #include <cmath>
-#include <thread>
 #include <utility>
 
 #include <fmt/format.h>
@@ -14,26 +12,12 @@ namespace tocd::acquisition {
 
 namespace {
 
-std::shared_ptr<StepPredictor> make_predictor(const LabSessionOptions& o) {
-  if (o.predictor) return o.predictor;
-  if (!o.predict) return nullptr;
-  return make_recording_predictor(*o.predict);
-}
-
 EngineOptions with_lab_text(EngineOptions e, const devices::LabConfig& lab) {
   if (e.lab_config_text.empty()) e.lab_config_text = devices::to_toml(lab);
   return e;
 }
 
 }  // namespace
-
-std::shared_ptr<StepPredictor> make_recording_predictor(SimPredictorSettings settings) {
-  // One FE + MC prediction at a time: the recorded steps come one by one.
-  if (settings.mc_threads == 0)
-    settings.mc_threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()) - 1);
-  return std::make_shared<SimStepPredictor>(std::make_shared<sim::study::Predictor>(1, nullptr, true),
-                                            settings);
-}
 
 InstrumentSet to_instrument_set(devices::LabInstruments lab) {
   return InstrumentSet{std::move(lab.tester), std::move(lab.power_meter), std::move(lab.vacuum)};
@@ -42,14 +26,13 @@ InstrumentSet to_instrument_set(devices::LabInstruments lab) {
 LabSession::LabSession(db::Database& db, InstrumentSet instruments, LabSessionOptions options,
                        EngineObserver* observer)
     : db_(db),
-      engine_(std::make_unique<Engine>(db, std::move(instruments), options.engine, make_predictor(options),
+      engine_(std::make_unique<Engine>(db, std::move(instruments), options.engine, options.predictor,
                                        observer)) {}
 
 LabSession::LabSession(db::Database& db, const devices::LabConfig& lab, LabSessionOptions options,
                        EngineObserver* observer)
     : LabSession(db, to_instrument_set(devices::open_lab(lab)),
-                 LabSessionOptions{with_lab_text(options.engine, lab), options.predict, options.predictor},
-                 observer) {}
+                 LabSessionOptions{with_lab_text(options.engine, lab), options.predictor}, observer) {}
 
 namespace {
 

@@ -11,7 +11,7 @@
 #include <mutex>
 
 #include "channel_slots.hpp"
-#include "running_stats.hpp"
+#include "tocd/core/running_stats.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/writer.hpp"
 

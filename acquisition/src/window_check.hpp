@@ -10,7 +10,7 @@
 #include <string>
 
 #include "channel_slots.hpp"
-#include "running_stats.hpp"
+#include "tocd/core/running_stats.hpp"
 
 namespace tocd::acquisition {
 

@@ -41,14 +41,18 @@ double baseline_power_W(const db::RunRecord& run, const std::vector<db::StepReco
 
 }  // namespace
 
+double sample_thickness_mm(const db::Reader& reader, const db::RunRecord& run) {
+  const auto specimen = run.sample_id != 0 ? reader.sample(run.sample_id) : std::nullopt;
+  if (!specimen || !(specimen->thickness_mm > 0))
+    throw Error(fmt::format("run {} has no sample thickness: the FE cannot model it", run.id));
+  return specimen->thickness_mm;
+}
+
 RunHistory read_run_history(const db::Reader& reader, std::int64_t run_id) {
   const db::RunRecord run = reader.run(run_id);
   RunHistory h;
   h.run_id = run_id;
-  const auto specimen = run.sample_id != 0 ? reader.sample(run.sample_id) : std::nullopt;
-  if (!specimen || !(specimen->thickness_mm > 0))
-    throw Error(fmt::format("run {} has no sample thickness: the FE cannot model it", run_id));
-  h.thickness_mm = specimen->thickness_mm;
+  h.thickness_mm = sample_thickness_mm(reader, run);
   if (reader.anchors(run_id).size() > 1)
     throw Error(
         fmt::format("run {} was resumed after an interruption: the load history across the gap is "

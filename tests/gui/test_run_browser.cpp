@@ -179,12 +179,12 @@ void RunBrowserTest::refuses_corrupt_and_foreign_files() {
 // seeds): the view's points are the database's T, with a band of zero width.
 void RunBrowserTest::fits_the_law_of_a_run_on_its_own_worker() {
   const QString path = dir_.filePath(QStringLiteral("predicted.tocdlab"));
-  const auto run = acquisition::testing::write_predicted_run(path.toStdString());
+  const auto run = analysis::testing::write_predicted_run(path.toStdString());
   const QString fit = dir_.filePath(QStringLiteral("fit.json"));
   {
     QFile f(fit);
     QVERIFY(f.open(QIODevice::WriteOnly));
-    f.write(QByteArray::fromStdString(acquisition::testing::scaled_fit_json(1.0, {1.0})));
+    f.write(QByteArray::fromStdString(analysis::testing::scaled_fit_json(1.0, {1.0})));
   }
   RunBrowserBackend backend;
   QSignalSpy opened(&backend, &RunBrowserBackend::database_opened);

@@ -5,7 +5,7 @@
 #include <fstream>
 
 #include "background.hpp"
-#include "tocd/acquisition/fitted_comparison.hpp"
+#include "tocd/analysis/fitted_comparison.hpp"
 #include "tocd/db/export.hpp"
 
 namespace tocd::gui {
@@ -190,14 +190,14 @@ void RunBrowserBackend::fit_law(std::int64_t run_id, const QString& material) {
   const std::string path = path_.toStdString();
   fits_->run<FittedLawView>(
       [this, path, run_id, material] {
-        acquisition::FittedComparisonOptions o;
+        analysis::FittedComparisonOptions o;
         o.material = material.toStdString();
         o.progress = [this](const std::string& line) {
           QMetaObject::invokeMethod(
               this, [this, l = QString::fromStdString(line)] { emit fit_progress(l); }, Qt::QueuedConnection);
         };
         const db::Reader reader(path);
-        const auto c = acquisition::compare_with_fitted_law(reader, run_id, o);
+        const auto c = analysis::compare_with_fitted_law(reader, run_id, o);
         FittedLawView v;
         v.run_id = run_id;
         v.summary = c.fitted_here ? tr("published law x %1 (%2-%3, %4 %), %5 confidence laws")

@@ -49,7 +49,7 @@ struct RunDetails {
   std::vector<QPointF> load_vs_displacement;
 };
 
-/// A run's steps predicted with the sample's own law (acquisition::compare_with_fitted_law).
+/// A run's steps predicted with the sample's own law (analysis::compare_with_fitted_law).
 struct FittedPoint {
   int step = 0;
   double nominal_strain = 0, T = 0, T_stderr = 0, band_lo = 0, band_hi = 0;
@@ -91,7 +91,7 @@ class RunBrowserBackend : public QObject {
   void fit_law(std::int64_t run_id, const QString& material = QStringLiteral("fitted"));
   bool fitting() const;
   /// Drives the biphasic FE along the run's recorded pin displacement and predicts T(t) at
-  /// points in every hold (acquisition::run_water_course), with each hold's measured T over
+  /// points in every hold (analysis::run_water_course), with each hold's measured T over
   /// time. About a minute per run at 20 000 photons; on the fit's worker, so one long job at a
   /// time (ignored while either runs); progress lines come as water_progress().
   void water_course(std::int64_t run_id, std::uint64_t photons = 20000);

@@ -8,8 +8,7 @@
 #include "background.hpp"
 
 #if TOCD_GUI_WITH_STUDY
-#include "tocd/acquisition/lab_session.hpp"
-#include "tocd/acquisition/sim_step_predictor.hpp"
+#include "tocd/analysis/sim_step_predictor.hpp"
 #include "tocd/sim/study/predictor.hpp"
 #include "tocd/sim/study/study.hpp"
 #endif
@@ -133,9 +132,9 @@ void StudyBackend::predict(double displacement_mm, double thickness_mm, const QS
 std::shared_ptr<acquisition::StepPredictor> make_simulator_step_predictor(qulonglong photons) {
   // The same predictor as `tocdlab demo` / `run`: T relative to the glass-only geometry,
   // as the measured T is relative to the glass-only baseline power.
-  acquisition::SimPredictorSettings settings;
+  analysis::SimPredictorSettings settings;
   settings.photons = photons;
-  return acquisition::make_recording_predictor(settings);
+  return analysis::make_recording_predictor(settings);
 }
 
 #else  // no simulator in this build

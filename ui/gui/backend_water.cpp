@@ -1,10 +1,10 @@
-// The run browser's water time course: acquisition::run_water_course on the long-job worker,
+// The run browser's water time course: analysis::run_water_course on the long-job worker,
 // turned into what the hold chart draws.
 #include <cmath>
 
 #include "backend_db.hpp"
 #include "background.hpp"
-#include "tocd/acquisition/run_water_course.hpp"
+#include "tocd/analysis/run_water_course.hpp"
 
 namespace tocd::gui {
 
@@ -32,7 +32,7 @@ void RunBrowserBackend::water_course(std::int64_t run_id, std::uint64_t photons)
   const std::string path = path_.toStdString();  // a reader of its own, as the fit
   fits_->run<WaterCourseView>(
       [this, path, run_id, photons] {
-        acquisition::RunWaterCourseOptions o;
+        analysis::RunWaterCourseOptions o;
         o.photons = photons;
         o.progress = [this](const std::string& line) {
           QMetaObject::invokeMethod(
@@ -48,7 +48,7 @@ void RunBrowserBackend::water_course(std::int64_t run_id, std::uint64_t photons)
               Qt::QueuedConnection);
         };
         const db::Reader reader(path);
-        const auto c = acquisition::run_water_course(reader, run_id, o);
+        const auto c = analysis::run_water_course(reader, run_id, o);
         const auto steps = reader.steps(run_id);
         WaterCourseView v;
         v.run_id = run_id;

@@ -7,7 +7,7 @@
 
 namespace tocd::gui {
 
-/// One predicted time point of a hold (acquisition::run_water_course): T(t) relative to the
+/// One predicted time point of a hold (analysis::run_water_course): T(t) relative to the
 /// glass-only baseline, or the reason it was not computed.
 struct WaterPointView {
   double t_s = 0;  ///< on the run's displacement clock

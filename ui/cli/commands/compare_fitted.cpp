@@ -1,5 +1,5 @@
 // The fitted-law branch of `tocdlab compare` (docs/study.md, "Sample's own law"): the numbers
-// come from acquisition::compare_with_fitted_law, this file lays them out.
+// come from analysis::compare_with_fitted_law, this file lays them out.
 #include "compare_fitted.hpp"
 
 #include <cmath>
@@ -8,19 +8,19 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "tocd/acquisition/fitted_comparison.hpp"
+#include "tocd/analysis/fitted_comparison.hpp"
 
 namespace tocd::cli {
 
 void run_compare_fitted(const CompareFittedOptions& o) {
   const db::Reader reader(o.db);
-  acquisition::FittedComparisonOptions fo;
+  analysis::FittedComparisonOptions fo;
   fo.material = o.material;
   fo.pin_radius_mm = o.pin_radius;
   fo.photons = o.photons;
   fo.threads = o.threads;
   fo.progress = [](const std::string& s) { std::cerr << s << '\n'; };
-  const auto c = acquisition::compare_with_fitted_law(reader, o.run, fo);
+  const auto c = analysis::compare_with_fitted_law(reader, o.run, fo);
   if (c.fitted_here)
     std::cerr << fmt::format(
         "run {}: fitted stiffness factor on the published law {:.4f} +- {:.4f} ({:.0f} %)\n", o.run, c.factor,

@@ -1,4 +1,4 @@
-// The water branch of `tocdlab compare`: the numbers come from acquisition::run_water_course,
+// The water branch of `tocdlab compare`: the numbers come from analysis::run_water_course,
 // this file lays them out; progress on stderr.
 #include "compare_water.hpp"
 
@@ -20,12 +20,12 @@ void run_compare_water(CompareWaterOptions o) {
     bar.set_total(all);
     bar.update(done);
   };
-  const auto c = acquisition::run_water_course(reader, o.run, o.course);
+  const auto c = analysis::run_water_course(reader, o.run, o.course);
   bar.finish();
   if (o.json)
-    print_json(acquisition::to_json(c));
+    print_json(analysis::to_json(c));
   else
-    std::cout << acquisition::format_run_water_course(c);
+    std::cout << analysis::format_run_water_course(c);
   if (!progress_quiet()) std::cerr << "compare --optics water: " << c.seconds << " s wall\n";
 }
 

@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <string>
 
-#include "tocd/acquisition/run_water_course.hpp"
+#include "tocd/analysis/run_water_course.hpp"
 
 namespace tocd::cli {
 
@@ -12,7 +12,7 @@ namespace tocd::cli {
 struct CompareWaterOptions {
   std::string db;
   std::int64_t run = 0;
-  acquisition::RunWaterCourseOptions course;
+  analysis::RunWaterCourseOptions course;
   bool json = false;
 };
 

@@ -28,8 +28,8 @@
 #include "tocd/acquisition/hold_clearing.hpp"
 #include "tocd/acquisition/lab_session.hpp"
 #include "tocd/acquisition/protocol.hpp"
-#include "tocd/acquisition/sim_step_predictor.hpp"
 #include "tocd/analysis/identify_sample.hpp"
+#include "tocd/analysis/sim_step_predictor.hpp"
 #include "tocd/core/atomic_file.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/core/log.hpp"
@@ -85,15 +85,16 @@ std::optional<tocd::analysis::SampleIdentification> identify_run(const DemoOptio
 
 void run_demo(const DemoOptions& o) {
   namespace acq = tocd::acquisition;
+  namespace an = tocd::analysis;
   const acq::Protocol protocol = o.protocol.empty() ? acq::demo_protocol() : acq::load_protocol(o.protocol);
   if (protocol.kind == acq::StepKind::vacuum)
     throw tocd::ConfigError("tocdlab demo runs pin-compression protocols");
   acq::check_simulated_clock_factor(protocol, o.clock_factor);
-  acq::SimPredictorSettings predict;
+  an::SimPredictorSettings predict;
   predict.photons = o.photons;
   predict.seed = o.seed;
   predict.mc_threads = o.threads;
-  acq::validate(predict);  // before the sample's preparation: a minute or more
+  an::validate(predict);  // before the sample's preparation: a minute or more
   const std::string csv_path =
       o.csv.empty() ? std::filesystem::path(o.db).replace_extension(".csv").string() : o.csv;
 
@@ -127,7 +128,7 @@ void run_demo(const DemoOptions& o) {
 
   // 3. The model that predicts each step: the published skin at the sample's thickness.
   acq::LabSessionOptions session;
-  session.predict = predict;
+  session.predictor = an::make_recording_predictor(predict);
 
   tocd::db::Database db(o.db);
   acq::EngineOptions& eo = session.engine;

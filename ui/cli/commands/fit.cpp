@@ -14,7 +14,7 @@
 #include "numeric_options.hpp"
 #include "output_naming.hpp"
 #include "progress.hpp"
-#include "tocd/acquisition/run_stress_strain.hpp"
+#include "tocd/analysis/run_stress_strain.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/db/reader.hpp"
 
@@ -59,7 +59,7 @@ void run_fit(const FitCliOptions& o) {
   } else {
     if (o.run <= 0) throw tocd::ConfigError("--db needs --run ID (see tocdlab runs --db FILE)");
     const auto ss =
-        tocd::acquisition::stress_strain_from_run(tocd::db::Reader(o.db), o.run, o.pin_radius, o.bins);
+        tocd::analysis::stress_strain_from_run(tocd::db::Reader(o.db), o.run, o.pin_radius, o.bins);
     d.strain = ss.strain;
     d.stress = ss.stress_MPa;
     if (!cli::progress_quiet())

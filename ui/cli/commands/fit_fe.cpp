@@ -8,7 +8,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include "tocd/acquisition/run_pin_data.hpp"
+#include "tocd/analysis/run_pin_data.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/sim/fe/inverse_fit.hpp"
@@ -91,9 +91,9 @@ void run_fit_fe(const FitFeOptions& o) {
   std::vector<fe::ClosedFormData> closed;
   if (!o.db.empty()) {
     if (o.run <= 0) throw tocd::ConfigError("--db needs --run ID (see tocdlab runs --db FILE)");
-    const auto points = tocd::acquisition::parse_run_load_points(o.points);
-    fe::PinCompressionData p = tocd::acquisition::pin_data_from_run(tocd::db::Reader(o.db), o.run, points,
-                                                                    o.pin_radius, o.bins, o.thickness);
+    const auto points = tocd::analysis::parse_run_load_points(o.points);
+    fe::PinCompressionData p = tocd::analysis::pin_data_from_run(tocd::db::Reader(o.db), o.run, points,
+                                                                 o.pin_radius, o.bins, o.thickness);
     p.model = geometry(o, p.model.thickness_mm);
     p.weight = o.weight;
     std::cerr << fmt::format("run {}: {} {} load/displacement points, {} mm sample, pin radius {} mm\n",

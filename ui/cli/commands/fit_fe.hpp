@@ -14,7 +14,7 @@ struct FitFeOptions {
   double pin_radius = 1.5, thickness = 0, poisson = 0.49, weight = 1, refine = 1, confidence = 0.95;
   std::size_t bins = 16;
   std::string kinematics = "axi", bottom = "bonded";
-  std::string points = "held";  ///< a run's loads: held | loading (acquisition::RunLoadPoints)
+  std::string points = "held";  ///< a run's loads: held | loading (analysis::RunLoadPoints)
   bool fit_D = false, json = false;
   /// Extra datasets "MODE:FILE[:WEIGHT]", MODE uniaxial | equibiaxial | simple-shear | pin.
   std::vector<std::string> datasets;

@@ -16,7 +16,7 @@
 #include "predict_series.hpp"
 #include "predict_water.hpp"
 #include "progress.hpp"
-#include "tocd/acquisition/sim_step_predictor.hpp"
+#include "tocd/analysis/sim_step_predictor.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/sim/parallel/team.hpp"
 #include "tocd/sim/study/predictor.hpp"
@@ -100,7 +100,7 @@ st::ConfigDocument read_config(const PredictOptions& o) {
 
 // A run's stored prediction: T(step) / T(baseline), computed as the run engine computes it.
 void run_relative(const st::ConfigDocument& d, const st::Prediction& p, const st::Prediction& b, bool json) {
-  const auto rel = tocd::acquisition::relative_to_baseline(p.T, p.T_stderr, b.T, b.T_stderr);
+  const auto rel = tocd::analysis::relative_to_baseline(p.T, p.T_stderr, b.T, b.T_stderr);
   if (json) {
     nlohmann::json j = {{"quantity", d.quantity},
                         {"T", rel.T},

@@ -23,7 +23,7 @@
 #include "tocd/acquisition/engine.hpp"
 #include "tocd/acquisition/lab_session.hpp"
 #include "tocd/acquisition/protocol.hpp"
-#include "tocd/acquisition/sim_step_predictor.hpp"
+#include "tocd/analysis/sim_step_predictor.hpp"
 #include "tocd/core/log.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
@@ -55,6 +55,7 @@ std::string read_text(const std::string& path) {
 
 void run_protocol(const RunOptions& o) {
   namespace acq = tocd::acquisition;
+  namespace an = tocd::analysis;
   if (o.lab.empty() == !o.simulated)
     throw tocd::ConfigError("give exactly one of --lab LAB.toml or --simulated");
   if (!o.resume && o.protocol.empty()) throw tocd::ConfigError("give a PROTOCOL.toml (or --resume RUN_ID)");
@@ -81,12 +82,12 @@ void run_protocol(const RunOptions& o) {
   if (!o.resume) fresh = acq::load_protocol(o.protocol);
   // A run must never record steps it cannot predict: the settings are checked before
   // anything is opened (a vacuum protocol, which is not predicted, is checked as well).
-  std::optional<acq::SimPredictorSettings> predict;
+  std::optional<an::SimPredictorSettings> predict;
   if (!o.no_predict) {
     predict.emplace();
     predict->photons = o.photons;
     predict->seed = o.seed;
-    acq::validate(*predict);
+    an::validate(*predict);
   }
   if (o.simulated && fresh) acq::check_simulated_clock_factor(*fresh, o.clock_factor);
 
@@ -126,7 +127,8 @@ void run_protocol(const RunOptions& o) {
   std::string error;
   acq::EngineStats stats;
   {
-    if (protocol.kind != acq::StepKind::vacuum) session.predict = predict;
+    if (predict && protocol.kind != acq::StepKind::vacuum)
+      session.predictor = an::make_recording_predictor(*predict);
     acq::LabSession lab_session(db, *lab_cfg, session, &progress);
     phases.mark("instruments opened");
     acq::Engine& engine = lab_session.engine();

@@ -1,13 +1,12 @@
 #pragma once
 
 #include <memory>
-#include <optional>
 #include <string>
 #include <string_view>
 
 #include "tocd/acquisition/engine.hpp"
 #include "tocd/acquisition/protocol.hpp"
-#include "tocd/acquisition/sim_step_predictor.hpp"
+#include "tocd/acquisition/step_predictor.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/devices/lab.hpp"
 
@@ -18,19 +17,11 @@ struct LabSessionOptions {
   /// Clock factor, operator, unattended, writer... `engine.lab_config_text` is stored with
   /// each run; left empty, the session stores the lab config it opened (as TOML).
   EngineOptions engine;
-  /// Predict T for every recorded step of a pin protocol with the FE + Monte Carlo simulator;
-  /// nullopt: no predictions (vacuum protocols are never predicted).
-  std::optional<SimPredictorSettings> predict;
-  /// A predictor of the caller's own instead of the simulator (tests, a remote one); wins
-  /// over `predict`.
+  /// Predicts T for every recorded step; null: no predictions (the front ends leave it null
+  /// for vacuum protocols, which are never predicted). The front ends hand in the simulator's
+  /// (analysis::make_recording_predictor); tests and other predictors hand in their own.
   std::shared_ptr<StepPredictor> predictor;
 };
-
-/// The simulator's predictor of a recording's steps, as every front end makes it: its threads
-/// run at the background niceness (10), so that predictions never cost the pollers a reading,
-/// and its Monte Carlo leaves one core to them and the writer unless `settings` chose a thread
-/// count. Throws ConfigError for settings no step could be predicted with.
-std::shared_ptr<StepPredictor> make_recording_predictor(SimPredictorSettings settings);
 
 /// One run of the lab, wired the same way for `tocdlab run`, `tocdlab demo` and the GUI: the
 /// instruments (opened from a lab config, or handed over already open), the measurement

@@ -25,10 +25,12 @@ struct PredictedStep {
   std::string summary_json;                                    ///< optional extras ("" = none)
 };
 
-/// Predicts a recorded step's transmission. Implemented over sim::study::Predictor in
-/// acquisition/src/sim_step_predictor.cpp. The engine calls predict() from its prediction
-/// thread, never from an acquisition thread, and waits on the futures there; an exception
-/// stored in the future is logged as a "prediction" event and the step keeps no prediction.
+/// Predicts a recorded step's transmission. The simulator's implementation, over
+/// sim::study::Predictor, is analysis::SimStepPredictor (analysis/src/sim_step_predictor.cpp):
+/// acquisition knows the simulator only through this interface. The engine calls predict()
+/// from its prediction thread, never from an acquisition thread, and waits on the futures
+/// there; an exception stored in the future is logged as a "prediction" event and the step
+/// keeps no prediction.
 class StepPredictor {
  public:
   virtual ~StepPredictor() = default;

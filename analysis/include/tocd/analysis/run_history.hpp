@@ -32,6 +32,10 @@ struct RunHistory {
   std::vector<Hold> holds;  ///< completed pin steps in contact or at contact, in order
 };
 
+/// The thickness of the sample `run` was recorded on, as the FE models it. Throws tocd::Error
+/// naming the run when it has no sample record or no positive thickness.
+double sample_thickness_mm(const db::Reader& reader, const db::RunRecord& run);
+
 /// Reads run `run_id`. Throws tocd::Error naming the run when it has no tester readings, no
 /// sample thickness, no completed pin step, readings of load and displacement that do not pair
 /// up, or more than one clock segment (a resumed run: the history across the interruption is

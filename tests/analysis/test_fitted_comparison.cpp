@@ -1,4 +1,4 @@
-// acquisition::compare_with_fitted_law: a run's stored predictions re-made with another law.
+// analysis::compare_with_fitted_law: a run's stored predictions re-made with another law.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -7,11 +7,11 @@
 #include <unistd.h>
 
 #include "predicted_run.hpp"
-#include "tocd/acquisition/fitted_comparison.hpp"
+#include "tocd/analysis/fitted_comparison.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/db/reader.hpp"
 
-namespace acq = tocd::acquisition;
+namespace an = tocd::analysis;
 namespace fs = std::filesystem;
 
 namespace {
@@ -21,7 +21,7 @@ class FittedComparison : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = fs::temp_directory_path() / ("tocd_fitted_" + std::to_string(::getpid()));
     fs::create_directories(dir_);
-    run_ = acq::testing::write_predicted_run(dir_ / "lab.sqlite");
+    run_ = an::testing::write_predicted_run(dir_ / "lab.sqlite");
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
 
@@ -41,9 +41,9 @@ std::int64_t FittedComparison::run_ = 0;
 // re-makes them: same configs, same seeds, so the same numbers.
 TEST_F(FittedComparison, ThePublishedLawReproducesTheStoredPredictions) {
   const tocd::db::Reader reader((dir_ / "lab.sqlite").string());
-  acq::FittedComparisonOptions o;
-  o.material = fit_file("same.json", acq::testing::scaled_fit_json(1.0, {1.0}));
-  const auto c = acq::compare_with_fitted_law(reader, run_, o);
+  an::FittedComparisonOptions o;
+  o.material = fit_file("same.json", an::testing::scaled_fit_json(1.0, {1.0}));
+  const auto c = an::compare_with_fitted_law(reader, run_, o);
   ASSERT_EQ(c.steps.size(), 2u);
   EXPECT_FALSE(c.fitted_here);
   for (const auto& s : c.steps) {
@@ -62,11 +62,11 @@ TEST_F(FittedComparison, ThePublishedLawReproducesTheStoredPredictions) {
 // check of the force column. The band spans the confidence laws' T around the fitted T.
 TEST_F(FittedComparison, AStifferLawScalesTheForceAndBracketsItsTWithTheBand) {
   const tocd::db::Reader reader((dir_ / "lab.sqlite").string());
-  acq::FittedComparisonOptions o;
-  o.material = fit_file("stiff.json", acq::testing::scaled_fit_json(2.0, {1.6, 2.5}));
+  an::FittedComparisonOptions o;
+  o.material = fit_file("stiff.json", an::testing::scaled_fit_json(2.0, {1.6, 2.5}));
   int progress_lines = 0;
   o.progress = [&](const std::string&) { ++progress_lines; };
-  const auto c = acq::compare_with_fitted_law(reader, run_, o);
+  const auto c = an::compare_with_fitted_law(reader, run_, o);
   EXPECT_EQ(c.band_laws.size(), 2u);
   EXPECT_EQ(progress_lines, 2) << "one line per re-predicted step";
   const auto& s = c.steps[1];
@@ -82,17 +82,17 @@ TEST_F(FittedComparison, AStifferLawScalesTheForceAndBracketsItsTWithTheBand) {
 
 TEST_F(FittedComparison, AFileThatIsNoFitIsAClearError) {
   const tocd::db::Reader reader((dir_ / "lab.sqlite").string());
-  acq::FittedComparisonOptions o;
+  an::FittedComparisonOptions o;
   o.material = fit_file("not_a_fit.json", R"({"mu": [1]})");
   try {
-    acq::compare_with_fitted_law(reader, run_, o);
+    an::compare_with_fitted_law(reader, run_, o);
     FAIL() << "expected ConfigError";
   } catch (const tocd::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("not_a_fit.json"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("tocdlab fit --method fe --json"), std::string::npos) << e.what();
   }
   o.material = (dir_ / "missing.json").string();
-  EXPECT_THROW(acq::compare_with_fitted_law(reader, run_, o), tocd::ConfigError);
+  EXPECT_THROW(an::compare_with_fitted_law(reader, run_, o), tocd::ConfigError);
 }
 
 }  // namespace

@@ -1,11 +1,11 @@
-// acquisition::run_water_course on a small hand-made run: real FE, composite meshes and Monte
+// analysis::run_water_course on a small hand-made run: real FE, composite meshes and Monte
 // Carlo (few photons): the predicted points inside the holds next to the measured power, and a
 // solve that stops reported as not computed.
 #include <cmath>
 
 #include <gtest/gtest.h>
 
-#include "tocd/acquisition/run_water_course.hpp"
+#include "tocd/analysis/run_water_course.hpp"
 #include "tocd/sim/study/predictor.hpp"
 #include "tocd/sim/study/water_history.hpp"
 #include "water_course_run.hpp"
@@ -13,18 +13,18 @@
 namespace {
 
 using namespace water_course_test;
-namespace acq = tocd::acquisition;
+namespace an = tocd::analysis;
 
 // Real FE, composite meshes and Monte Carlo with few photons: one point per hold.
 TEST_F(RunWaterCourse, PredictsInsideEachHoldNextToTheMeasuredPower) {
   const auto run = write_run();
   const tocd::db::Reader reader(path_.string());
-  acq::RunWaterCourseOptions o;
+  an::RunWaterCourseOptions o;
   o.points_per_hold = 1;
   o.photons = 4000;
   std::size_t calls = 0;
   o.point_progress = [&](std::size_t, std::size_t) { ++calls; };
-  const auto c = acq::run_water_course(reader, run, o);
+  const auto c = an::run_water_course(reader, run, o);
   EXPECT_EQ(calls, 3u);
   EXPECT_EQ(c.thickness_mm, kThickness) << "from the run's sample";
   ASSERT_EQ(c.steps.size(), 3u);

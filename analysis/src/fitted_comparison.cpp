@@ -1,5 +1,5 @@
 // The sample's own law next to the default one, step by step (docs/study.md, "Sample's own law").
-#include "tocd/acquisition/fitted_comparison.hpp"
+#include "tocd/analysis/fitted_comparison.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -11,12 +11,12 @@
 #include <nlohmann/json.hpp>
 
 #include "tocd/acquisition/compare_table.hpp"
-#include "tocd/acquisition/run_pin_data.hpp"
+#include "tocd/analysis/run_pin_data.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/sim/fe/inverse_fit.hpp"
 #include "tocd/sim/study/predictor.hpp"
 
-namespace tocd::acquisition {
+namespace tocd::analysis {
 namespace {
 
 namespace fe = tocd::sim::fe;
@@ -94,7 +94,7 @@ double fe_force(const st::PredictionRequest& step, const mat::OgdenParameters& l
 
 FittedComparison compare_with_fitted_law(const db::Reader& reader, std::int64_t run_id,
                                          const FittedComparisonOptions& o) {
-  const auto table = compare_table(reader, run_id);
+  const auto table = acquisition::compare_table(reader, run_id);
   std::map<int, std::string> configs;  // latest prediction config per step
   for (const auto& p : reader.predictions(run_id)) configs[p.step_index] = p.config_json;
 
@@ -140,4 +140,4 @@ FittedComparison compare_with_fitted_law(const db::Reader& reader, std::int64_t 
   return out;
 }
 
-}  // namespace tocd::acquisition
+}  // namespace tocd::analysis

@@ -10,7 +10,7 @@
 #include "tocd/db/reader.hpp"
 #include "tocd/sim/study/water_history.hpp"
 
-namespace tocd::acquisition {
+namespace tocd::analysis {
 
 /// The pin displacement a run actually went through, as the biphasic FE takes it.
 struct RunDisplacementHistory {
@@ -104,4 +104,4 @@ std::string format_run_water_course(const RunWaterCourse& c);
 /// mesh_seconds, mc_seconds}]}]}; NaN as null.
 nlohmann::json to_json(const RunWaterCourse& c);
 
-}  // namespace tocd::acquisition
+}  // namespace tocd::analysis

@@ -1,7 +1,9 @@
-#include "tocd/acquisition/sim_step_predictor.hpp"
+#include "tocd/analysis/sim_step_predictor.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <thread>
 #include <utility>
 
 #include <fmt/format.h>
@@ -9,7 +11,7 @@
 
 #include "tocd/core/error.hpp"
 
-namespace tocd::acquisition {
+namespace tocd::analysis {
 
 RelativeTransmission relative_to_baseline(double T, double T_se, double T0, double T0_se) {
   if (!(T0 > 0)) throw Error("baseline transmission of the glass-only simulation is not positive");
@@ -83,7 +85,7 @@ std::shared_future<sim::study::Prediction> SimStepPredictor::baseline(double thi
   return *baseline_;
 }
 
-std::future<PredictedStep> SimStepPredictor::predict(const RecordedStep& step) {
+std::future<acquisition::PredictedStep> SimStepPredictor::predict(const acquisition::RecordedStep& step) {
   const sim::study::PredictionRequest request = request_for(step.displacement_mm, step.thickness_mm);
   sim::study::validate(request);  // a bad step fails here, in the caller's thread
   auto base = baseline(step.thickness_mm);
@@ -93,7 +95,7 @@ std::future<PredictedStep> SimStepPredictor::predict(const RecordedStep& step) {
     const sim::study::Prediction& b = base.get();
     const sim::study::Prediction& p = fut.get();
     const RelativeTransmission rel = relative_to_baseline(p.T, p.T_stderr, b.T, b.T_stderr);
-    PredictedStep out;
+    acquisition::PredictedStep out;
     out.T = rel.T;
     out.T_stderr = rel.T_stderr;
     nlohmann::json config;
@@ -118,4 +120,12 @@ std::future<PredictedStep> SimStepPredictor::predict(const RecordedStep& step) {
   });
 }
 
-}  // namespace tocd::acquisition
+std::shared_ptr<acquisition::StepPredictor> make_recording_predictor(SimPredictorSettings settings) {
+  // One FE + MC prediction at a time: the recorded steps come one by one.
+  if (settings.mc_threads == 0)
+    settings.mc_threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()) - 1);
+  return std::make_shared<SimStepPredictor>(std::make_shared<sim::study::Predictor>(1, nullptr, true),
+                                            settings);
+}
+
+}  // namespace tocd::analysis

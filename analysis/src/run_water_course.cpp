@@ -1,6 +1,6 @@
 // A recorded run's holds through the biphasic FE with water-content optics, next to the power
 // measured at the same times (docs/water.md, "Time course of a recorded run").
-#include "tocd/acquisition/run_water_course.hpp"
+#include "tocd/analysis/run_water_course.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -9,11 +9,11 @@
 
 #include <fmt/format.h>
 
-#include "running_stats.hpp"
 #include "tocd/core/error.hpp"
+#include "tocd/core/running_stats.hpp"
 #include "tocd/sim/study/predictor.hpp"
 
-namespace tocd::acquisition {
+namespace tocd::analysis {
 
 namespace {
 
@@ -325,4 +325,4 @@ nlohmann::json to_json(const RunWaterCourse& c) {
           {"seconds", c.seconds}};
 }
 
-}  // namespace tocd::acquisition
+}  // namespace tocd::analysis

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace tocd::acquisition::testing {
+namespace tocd::analysis::testing {
 
 struct PredictedRunSpec {
   std::vector<double> displacements_mm = {0.0, 0.5};
@@ -25,4 +25,4 @@ std::int64_t write_predicted_run(const std::filesystem::path& path, const Predic
 /// `band_factors`.
 std::string scaled_fit_json(double factor, const std::vector<double>& band_factors);
 
-}  // namespace tocd::acquisition::testing
+}  // namespace tocd::analysis::testing

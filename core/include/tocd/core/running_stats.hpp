@@ -4,9 +4,10 @@
 #include <cstdint>
 #include <limits>
 
-namespace tocd::acquisition {
+namespace tocd {
 
-/// Mean and sample standard deviation in one pass (Welford), stable for long windows.
+/// Mean and sample standard deviation in one pass (Welford), stable for long windows: the
+/// engine's recording windows and the analyses of recorded samples.
 class RunningStats {
  public:
   void add(double x) noexcept {
@@ -27,4 +28,4 @@ class RunningStats {
   double mean_ = 0, m2_ = 0;
 };
 
-}  // namespace tocd::acquisition
+}  // namespace tocd

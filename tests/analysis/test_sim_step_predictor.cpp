@@ -4,26 +4,27 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "tocd/acquisition/sim_step_predictor.hpp"
+#include "tocd/analysis/sim_step_predictor.hpp"
 
 namespace acq = tocd::acquisition;
+namespace an = tocd::analysis;
 
 namespace {
 
 TEST(SimStepPredictorMath, RatioAndPropagatedError) {
-  const auto r = acq::relative_to_baseline(0.2, 0.002, 0.4, 0.004);
+  const auto r = an::relative_to_baseline(0.2, 0.002, 0.4, 0.004);
   EXPECT_DOUBLE_EQ(r.T, 0.5);
   // 1 % relative on each: sqrt(2) % on the ratio.
   EXPECT_NEAR(r.T_stderr, 0.5 * std::sqrt(2.0) * 0.01, 1e-15);
-  EXPECT_THROW(acq::relative_to_baseline(0.2, 0.002, 0.0, 0.0), tocd::Error);
+  EXPECT_THROW(an::relative_to_baseline(0.2, 0.002, 0.0, 0.0), tocd::Error);
 }
 
 TEST(SimStepPredictor, PredictsRelativeToTheGlassOnlyBaseline) {
-  acq::SimPredictorSettings s;
+  an::SimPredictorSettings s;
   s.photons = 6000;
   s.seed = 3;
   auto study = std::make_shared<tocd::sim::study::Predictor>(1);
-  acq::SimStepPredictor p(study, s);
+  an::SimStepPredictor p(study, s);
   acq::RecordedStep step;
   step.displacement_mm = 0.75;
   step.thickness_mm = 2.0;

@@ -6,7 +6,7 @@
 
 #include "tocd/db/reader.hpp"
 
-namespace tocd::acquisition {
+namespace tocd::analysis {
 
 /// Nominal stress-strain data of a recorded pin-compression run, in the uniaxial-compression
 /// interpretation the published fit used: strain = pin displacement / sample thickness,
@@ -27,4 +27,4 @@ RunStressStrain stress_strain_from_run(const db::Reader& reader, std::int64_t ru
                                        double pin_radius_mm = 1.5, std::size_t bins = 40,
                                        std::size_t min_points = 8);
 
-}  // namespace tocd::acquisition
+}  // namespace tocd::analysis

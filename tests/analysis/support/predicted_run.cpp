@@ -4,11 +4,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "tocd/acquisition/sim_step_predictor.hpp"
+#include "tocd/analysis/sim_step_predictor.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/sim/study/predictor.hpp"
 
-namespace tocd::acquisition::testing {
+namespace tocd::analysis::testing {
 
 std::int64_t write_predicted_run(const std::filesystem::path& path, const PredictedRunSpec& spec) {
   auto database = db::Database::open(path);
@@ -28,12 +28,12 @@ std::int64_t write_predicted_run(const std::filesystem::path& path, const Predic
     s.measured_transmission = 0.5;
     s.channels = {{load.id, 0.1 * static_cast<double>(k), 0.001, 100}};
     database.add_step(s);
-    RecordedStep step;
+    acquisition::RecordedStep step;
     step.run_id = run.id;
     step.index = s.index;
     step.displacement_mm = s.target_displacement_mm;
     step.thickness_mm = spec.thickness_mm;
-    const PredictedStep p = predictor.predict(step).get();
+    const acquisition::PredictedStep p = predictor.predict(step).get();
     db::PredictionRecord r;
     r.run_id = run.id;
     r.step_index = s.index;
@@ -63,4 +63,4 @@ std::string scaled_fit_json(double factor, const std::vector<double>& band_facto
   return nlohmann::json{{"ogden", law(factor)}, {"confidence_laws", bands}}.dump();
 }
 
-}  // namespace tocd::acquisition::testing
+}  // namespace tocd::analysis::testing

@@ -1,15 +1,16 @@
 // A recorded run as load/displacement data for the inverse FE fit (docs/fe.md, "Inverse FE fit").
-#include "tocd/acquisition/run_pin_data.hpp"
+#include "tocd/analysis/run_pin_data.hpp"
 
 #include <cmath>
 #include <numbers>
 
 #include <fmt/format.h>
 
-#include "tocd/acquisition/run_stress_strain.hpp"
+#include "tocd/analysis/run_history.hpp"
+#include "tocd/analysis/run_stress_strain.hpp"
 #include "tocd/core/error.hpp"
 
-namespace tocd::acquisition {
+namespace tocd::analysis {
 
 RunLoadPoints parse_run_load_points(const std::string& s) {
   if (s == "held") return RunLoadPoints::held;
@@ -22,14 +23,6 @@ const char* to_string(RunLoadPoints p) {
 }
 
 namespace {
-
-double sample_thickness_mm(const db::Reader& reader, std::int64_t run_id) {
-  const db::RunRecord run = reader.run(run_id);
-  const auto specimen = run.sample_id != 0 ? reader.sample(run.sample_id) : std::nullopt;
-  if (!specimen || !(specimen->thickness_mm > 0))
-    throw Error(fmt::format("run {} has no sample thickness: the FE cannot model it", run_id));
-  return specimen->thickness_mm;
-}
 
 // One point per completed pin step in contact: the recording window's mean load at the mean
 // displacement the tester reported (the target where it reported none).
@@ -71,7 +64,7 @@ sim::fe::PinCompressionData pin_data_from_run(const db::Reader& reader, std::int
   if (!(pin_radius_mm > 0)) throw ConfigError(fmt::format("pin radius {} mm must be > 0", pin_radius_mm));
   sim::fe::PinCompressionData p;
   p.name = fmt::format("run {} ({} loads)", run_id, to_string(points));
-  const double recorded = sample_thickness_mm(reader, run_id);
+  const double recorded = sample_thickness_mm(reader, reader.run(run_id));
   p.model.thickness_mm = thickness_mm > 0 ? thickness_mm : recorded;
   p.model.pin_radius_mm = pin_radius_mm;
   if (points == RunLoadPoints::held)
@@ -84,4 +77,4 @@ sim::fe::PinCompressionData pin_data_from_run(const db::Reader& reader, std::int
   return p;
 }
 
-}  // namespace tocd::acquisition
+}  // namespace tocd::analysis

@@ -9,15 +9,15 @@
 #include <unistd.h>
 
 #include "tester_run.hpp"
-#include "tocd/acquisition/run_pin_data.hpp"
-#include "tocd/acquisition/run_stress_strain.hpp"
+#include "tocd/analysis/run_pin_data.hpp"
+#include "tocd/analysis/run_stress_strain.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/db/writer.hpp"
 
 namespace fs = std::filesystem;
-namespace acq = tocd::acquisition;
+namespace an = tocd::analysis;
 
 namespace {
 
@@ -71,7 +71,7 @@ TEST_F(RunPinData, HeldPointsAreEachCompletedStepsMeanLoadAtTheDisplacementTheTe
                                      {0.75, 0.7488, 0.030, false},  // cut short: no measurement
                                      {1.0, 0.9993, 0.050}});
   const auto p =
-      acq::pin_data_from_run(tocd::db::Reader(path_.string()), id, acq::RunLoadPoints::held, kRadius);
+      an::pin_data_from_run(tocd::db::Reader(path_.string()), id, an::RunLoadPoints::held, kRadius);
   ASSERT_EQ(p.displacement_mm.size(), 3u) << "the flat step and the step cut short do not enter";
   EXPECT_DOUBLE_EQ(p.displacement_mm[0], 0.2497);
   EXPECT_DOUBLE_EQ(p.displacement_mm[1], 0.4991);
@@ -82,8 +82,8 @@ TEST_F(RunPinData, HeldPointsAreEachCompletedStepsMeanLoadAtTheDisplacementTheTe
   EXPECT_DOUBLE_EQ(p.model.thickness_mm, kThickness);
   EXPECT_DOUBLE_EQ(p.model.pin_radius_mm, kRadius);
   // An explicit thickness replaces the recorded one; the points stay displacements.
-  const auto q = acq::pin_data_from_run(tocd::db::Reader(path_.string()), id, acq::RunLoadPoints::held,
-                                        kRadius, 16, 2.5);
+  const auto q =
+      an::pin_data_from_run(tocd::db::Reader(path_.string()), id, an::RunLoadPoints::held, kRadius, 16, 2.5);
   EXPECT_DOUBLE_EQ(q.model.thickness_mm, 2.5);
   EXPECT_DOUBLE_EQ(q.displacement_mm[2], 0.9993);
 }
@@ -91,8 +91,8 @@ TEST_F(RunPinData, HeldPointsAreEachCompletedStepsMeanLoadAtTheDisplacementTheTe
 TEST_F(RunPinData, LoadingPointsAreTheBinnedLoadingCurveAsLoads) {
   const auto id = record_run(path_, {{0.5, 0.5, 0.05}, {1.0, 1.0, 0.1}});
   const tocd::db::Reader reader(path_.string());
-  const auto p = acq::pin_data_from_run(reader, id, acq::RunLoadPoints::loading, kRadius, 10);
-  const auto ss = acq::stress_strain_from_run(reader, id, kRadius, 10);
+  const auto p = an::pin_data_from_run(reader, id, an::RunLoadPoints::loading, kRadius, 10);
+  const auto ss = an::stress_strain_from_run(reader, id, kRadius, 10);
   ASSERT_EQ(p.displacement_mm.size(), ss.strain.size());
   const double area = std::numbers::pi * kRadius * kRadius;
   for (std::size_t k = 0; k < ss.strain.size(); ++k) {
@@ -106,7 +106,7 @@ TEST_F(RunPinData, LoadingPointsAreTheBinnedLoadingCurveAsLoads) {
 TEST_F(RunPinData, HeldLoadsOfARunThatGoesBackAreRefusedNamingTheStep) {
   const auto id = record_run(path_, {{0.5, 0.5, 0.02}, {1.0, 1.0, 0.05}, {0.75, 0.75, 0.03}});
   try {
-    acq::pin_data_from_run(tocd::db::Reader(path_.string()), id, acq::RunLoadPoints::held, kRadius);
+    an::pin_data_from_run(tocd::db::Reader(path_.string()), id, an::RunLoadPoints::held, kRadius);
     FAIL() << "expected an error";
   } catch (const tocd::Error& e) {
     EXPECT_NE(std::string(e.what()).find("step 2"), std::string::npos) << e.what();
@@ -118,7 +118,7 @@ TEST_F(RunPinData, TooFewPointsOrNoThicknessAreClearErrors) {
   {
     const auto id = record_run(path_, {{0.0, 0.0, 0.0}, {0.5, 0.5, 0.02}});
     try {
-      acq::pin_data_from_run(tocd::db::Reader(path_.string()), id, acq::RunLoadPoints::held, kRadius);
+      an::pin_data_from_run(tocd::db::Reader(path_.string()), id, an::RunLoadPoints::held, kRadius);
       FAIL() << "expected an error";
     } catch (const tocd::Error& e) {
       EXPECT_NE(std::string(e.what()).find("only 1 held"), std::string::npos) << e.what();
@@ -127,7 +127,7 @@ TEST_F(RunPinData, TooFewPointsOrNoThicknessAreClearErrors) {
   TearDown();
   const auto id = record_run(path_, {{0.5, 0.5, 0.02}, {1.0, 1.0, 0.05}}, false);
   try {
-    acq::pin_data_from_run(tocd::db::Reader(path_.string()), id, acq::RunLoadPoints::held, kRadius);
+    an::pin_data_from_run(tocd::db::Reader(path_.string()), id, an::RunLoadPoints::held, kRadius);
     FAIL() << "expected an error";
   } catch (const tocd::Error& e) {
     EXPECT_NE(std::string(e.what()).find("thickness"), std::string::npos) << e.what();
@@ -135,10 +135,10 @@ TEST_F(RunPinData, TooFewPointsOrNoThicknessAreClearErrors) {
 }
 
 TEST(RunLoadPoints, NamesRoundTripAndAnUnknownNameIsRefusedByName) {
-  for (auto p : {acq::RunLoadPoints::held, acq::RunLoadPoints::loading})
-    EXPECT_EQ(acq::parse_run_load_points(acq::to_string(p)), p);
+  for (auto p : {an::RunLoadPoints::held, an::RunLoadPoints::loading})
+    EXPECT_EQ(an::parse_run_load_points(an::to_string(p)), p);
   try {
-    acq::parse_run_load_points("relaxed");
+    an::parse_run_load_points("relaxed");
     FAIL() << "expected an error";
   } catch (const tocd::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("relaxed"), std::string::npos) << e.what();

@@ -11,7 +11,7 @@
 #include "tocd/acquisition/step_predictor.hpp"
 #include "tocd/sim/study/predictor.hpp"
 
-namespace tocd::acquisition {
+namespace tocd::analysis {
 
 /// How recorded steps are simulated. Every field ends up in the stored prediction config.
 struct SimPredictorSettings {
@@ -35,10 +35,10 @@ void validate(const SimPredictorSettings& settings);
 /// value is the same ratio: T(step) / T(glass-only baseline geometry), both from the Monte
 /// Carlo, with the standard error propagated from both (independent seeds). The baseline is
 /// simulated once, on first use, and shared by every step.
-class SimStepPredictor : public StepPredictor {
+class SimStepPredictor : public acquisition::StepPredictor {
  public:
   SimStepPredictor(std::shared_ptr<sim::study::Predictor> predictor, SimPredictorSettings settings);
-  std::future<PredictedStep> predict(const RecordedStep& step) override;
+  std::future<acquisition::PredictedStep> predict(const acquisition::RecordedStep& step) override;
   void cancel() noexcept override;
 
   /// The request the predictor runs for a step (exposed for tests and the stored config).
@@ -54,10 +54,17 @@ class SimStepPredictor : public StepPredictor {
   std::optional<std::shared_future<sim::study::Prediction>> baseline_;
 };
 
+/// The simulator's predictor of a recording's steps, as every front end hands it to the lab
+/// session (acquisition::LabSessionOptions::predictor): its threads run at the background
+/// niceness (10), so that predictions never cost the pollers a reading, and its Monte Carlo
+/// leaves one core to them and the writer unless `settings` chose a thread count. Throws
+/// ConfigError for settings no step could be predicted with.
+std::shared_ptr<acquisition::StepPredictor> make_recording_predictor(SimPredictorSettings settings);
+
 /// Transmission relative to the baseline with its propagated standard error.
 struct RelativeTransmission {
   double T = 0, T_stderr = 0;
 };
 RelativeTransmission relative_to_baseline(double T, double T_se, double T0, double T0_se);
 
-}  // namespace tocd::acquisition
+}  // namespace tocd::analysis

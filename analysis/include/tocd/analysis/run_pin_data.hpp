@@ -7,7 +7,7 @@
 #include "tocd/db/reader.hpp"
 #include "tocd/sim/fe/inverse_fit.hpp"
 
-namespace tocd::acquisition {
+namespace tocd::analysis {
 
 /// Which of a run's loads an FE fit matches (`tocdlab fit --method fe --points`, docs/fe.md).
 ///  - held: each completed step's load, averaged over its recording window in the hold, at the
@@ -29,4 +29,4 @@ sim::fe::PinCompressionData pin_data_from_run(const db::Reader& reader, std::int
                                               RunLoadPoints points, double pin_radius_mm,
                                               std::size_t bins = 16, double thickness_mm = 0);
 
-}  // namespace tocd::acquisition
+}  // namespace tocd::analysis

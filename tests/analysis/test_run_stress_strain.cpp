@@ -10,14 +10,14 @@
 #include <unistd.h>
 
 #include "tester_run.hpp"
-#include "tocd/acquisition/run_stress_strain.hpp"
+#include "tocd/analysis/run_stress_strain.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/db/writer.hpp"
 
 namespace fs = std::filesystem;
-namespace acq = tocd::acquisition;
+namespace an = tocd::analysis;
 
 namespace {
 
@@ -52,7 +52,7 @@ class RunStressStrain : public tocd::acquisition::testing::TempDatabaseTest {};
 
 TEST_F(RunStressStrain, LoadingBranchBinnedIntoNominalStressAndStrain) {
   const auto id = record_run(path_, true);
-  const auto ss = acq::stress_strain_from_run(tocd::db::Reader(path_.string()), id, kRadius, 20);
+  const auto ss = an::stress_strain_from_run(tocd::db::Reader(path_.string()), id, kRadius, 20);
   EXPECT_DOUBLE_EQ(ss.thickness_mm, kThickness);
   ASSERT_GE(ss.strain.size(), 10u);
   const double area = std::numbers::pi * kRadius * kRadius;
@@ -83,13 +83,13 @@ TEST_F(RunStressStrain, ErrorsNameWhatIsMissing) {
   const auto id = record_run(path_, false);
   const tocd::db::Reader reader(path_.string());
   try {
-    acq::stress_strain_from_run(reader, id);
+    an::stress_strain_from_run(reader, id);
     FAIL() << "no thickness";
   } catch (const tocd::Error& e) {
     EXPECT_NE(std::string(e.what()).find("thickness"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(acq::stress_strain_from_run(reader, id, -1.0), tocd::ConfigError);
-  EXPECT_ANY_THROW(acq::stress_strain_from_run(reader, id + 100));
+  EXPECT_THROW(an::stress_strain_from_run(reader, id, -1.0), tocd::ConfigError);
+  EXPECT_ANY_THROW(an::stress_strain_from_run(reader, id + 100));
 }
 
 }  // namespace

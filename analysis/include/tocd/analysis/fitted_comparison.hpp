@@ -9,7 +9,7 @@
 #include "tocd/db/reader.hpp"
 #include "tocd/sim/material/ogden.hpp"
 
-namespace tocd::acquisition {
+namespace tocd::analysis {
 
 /// Where the sample's own law comes from (`tocdlab compare --material`, the window's run
 /// browser): fitted here to the run's load-displacement curve through the FE (model `scaled`:
@@ -56,4 +56,4 @@ struct FittedComparison {
 FittedComparison compare_with_fitted_law(const db::Reader& reader, std::int64_t run_id,
                                          const FittedComparisonOptions& options);
 
-}  // namespace tocd::acquisition
+}  // namespace tocd::analysis

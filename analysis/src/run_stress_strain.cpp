@@ -1,4 +1,4 @@
-#include "tocd/acquisition/run_stress_strain.hpp"
+#include "tocd/analysis/run_stress_strain.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include "tocd/core/error.hpp"
 
-namespace tocd::acquisition {
+namespace tocd::analysis {
 
 RunStressStrain stress_strain_from_run(const db::Reader& reader, std::int64_t run_id, double pin_radius_mm,
                                        std::size_t bins, std::size_t min_points) {
@@ -70,4 +70,4 @@ RunStressStrain stress_strain_from_run(const db::Reader& reader, std::int64_t ru
   return out;
 }
 
-}  // namespace tocd::acquisition
+}  // namespace tocd::analysis
