@@ -14,6 +14,7 @@
 #include "tocd/analysis/run_pin_data.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/sim/fe/inverse_fit.hpp"
+#include "tocd/sim/material/stiffness_scale.hpp"
 #include "tocd/sim/study/predictor.hpp"
 
 namespace tocd::analysis {
@@ -54,6 +55,31 @@ void fit_here(const db::Reader& reader, std::int64_t run_id, const FittedCompari
   out.factor_low = r.interval_low[0];
   out.factor_high = r.interval_high[0];
   out.confidence = r.confidence;
+}
+
+// The identified sample: its stiffness scale (profile interval) on the published law, and its
+// re-predicted steps. A run whose optics cannot be identified has no identified T to show.
+void identify_here(const db::Reader& reader, std::int64_t run_id, const FittedComparisonOptions& o,
+                   FittedComparison& out) {
+  SampleIdentificationOptions io;
+  io.mechanics.pin_radius_mm = o.pin_radius_mm;
+  if (o.photons) io.monte_carlo.photons = o.photons;
+  io.monte_carlo.threads = o.threads;
+  io.monte_carlo.pin_radius_mm = o.pin_radius_mm;
+  io.progress = o.progress;
+  SampleIdentification id = identify_sample(reader, run_id, io);
+  if (!id.optics)
+    throw tocd::Error(fmt::format(
+        "run {}: the sample's optics were not identified ({})", run_id,
+        id.optics_not_identified.empty() ? "the run recorded no transmission" : id.optics_not_identified));
+  const IdentifiedParameter& scale = id.mechanics.report.at("stiffness_scale");
+  out.law = mat::scale_stiffness(st::published_skin_material(), scale.value);
+  out.factor = scale.value;
+  out.factor_low = scale.lo;
+  out.factor_high = scale.hi;
+  out.confidence = 0.95;
+  out.fitted_here = true;
+  out.identification = std::move(id);
 }
 
 struct Ratio {
@@ -102,6 +128,8 @@ FittedComparison compare_with_fitted_law(const db::Reader& reader, std::int64_t 
   out.run_id = run_id;
   if (o.material == "fitted")
     fit_here(reader, run_id, o, out);
+  else if (o.material == "identified")
+    identify_here(reader, run_id, o, out);
   else
     read_fit_file(o.material, out);
 
@@ -118,7 +146,20 @@ FittedComparison compare_with_fitted_law(const db::Reader& reader, std::int64_t 
     s.fe_force_default_N = s.fe_force_fitted_N = kNaN;
     s.T_fitted = s.T_fitted_se = s.band_lo = s.band_hi = kNaN;
     const auto cfg = configs.find(line.index);
-    if (cfg != configs.end()) {
+    if (out.identification) {
+      for (const auto& step : out.identification->optics->steps) {
+        if (step.step_index != line.index) continue;
+        s.T_fitted = step.predicted_T;
+        s.T_fitted_se = step.predicted_T_se;
+        s.band_lo = step.band_lo;
+        s.band_hi = step.band_hi;
+      }
+      if (cfg != configs.end()) {
+        const auto doc = st::config_document_from_json(nlohmann::json::parse(cfg->second));
+        s.fe_force_default_N = fe_force(doc.step, doc.step.material);
+        s.fe_force_fitted_N = fe_force(doc.step, out.law);
+      }
+    } else if (cfg != configs.end()) {
       const auto doc = st::config_document_from_json(nlohmann::json::parse(cfg->second));
       if (o.progress)
         o.progress(fmt::format("step {}: d = {} mm, predicting with the fitted law", line.index,

@@ -243,13 +243,23 @@ OpticsIdentification identify_optics(const RunHistory& history, const ClearingId
   // Covariance of the generalised least squares: (J^T W J)^-1, through the scaled inverse that
   // leaves out what the data do not see (a Cholesky factor of W turns it into ordinary LS).
   const Eigen::MatrixXd l = Eigen::LLT<Eigen::MatrixXd>(w).matrixU();
-  apply_covariance(rep, least_squares_covariance(l * e.jacobian, birge), z);
+  const Eigen::MatrixXd covariance = least_squares_covariance(l * e.jacobian, birge);
+  apply_covariance(rep, covariance, z);
 
   out.displacement_mm = clearing.displacement_mm;
   out.T_eq = clearing.T_eq;
   out.T_model.assign(e.T.data(), e.T.data() + e.T.size());
   out.T_model_se.assign(e.se.data(), e.se.data() + e.se.size());
   const auto predicted = window_means(history, clearing, out.T_model);
+  // The window means are linear in the knots' T: each parameter's derivative carries over the
+  // same way, and with it the band (parameters the run does not determine add nothing here:
+  // least_squares_covariance leaves them out rather than making them infinite).
+  Eigen::MatrixXd window_jacobian(static_cast<Eigen::Index>(clearing.windows.size()), kParameters);
+  for (int k = 0; k < kParameters; ++k) {
+    const Eigen::VectorXd column = e.jacobian.col(k);
+    const auto dk = window_means(history, clearing, std::vector<double>(column.data(), column.data() + nk));
+    for (std::size_t i = 0; i < dk.size(); ++i) window_jacobian(static_cast<Eigen::Index>(i), k) = dk[i];
+  }
   for (std::size_t i = 0; i < clearing.windows.size(); ++i) {
     OpticsIdentification::Step s;
     s.step_index = clearing.windows[i].step_index;
@@ -263,6 +273,10 @@ OpticsIdentification identify_optics(const RunHistory& history, const ClearingId
     s.predicted_T_se = at == out.displacement_mm.end()
                            ? std::nan("")
                            : out.T_model_se[static_cast<std::size_t>(at - out.displacement_mm.begin())];
+    const Eigen::RowVectorXd gradient = window_jacobian.row(static_cast<Eigen::Index>(i));
+    const double spread = z * std::sqrt(std::max(0.0, (gradient * covariance * gradient.transpose())(0, 0)));
+    s.band_lo = s.predicted_T - spread;
+    s.band_hi = s.predicted_T + spread;
     out.steps.push_back(s);
   }
   out.monte_carlo_runs = model.runs;
@@ -279,8 +293,9 @@ nlohmann::json to_json(const OpticsIdentification& o) {
                      {"measured_T_se",
                       std::isfinite(s.measured_T_se) ? nlohmann::json(s.measured_T_se) : nlohmann::json()},
                      {"predicted_T", s.predicted_T},
-                     {"predicted_T_se", std::isfinite(s.predicted_T_se) ? nlohmann::json(s.predicted_T_se)
-                                                                        : nlohmann::json()}});
+                     {"predicted_T_se",
+                      std::isfinite(s.predicted_T_se) ? nlohmann::json(s.predicted_T_se) : nlohmann::json()},
+                     {"parameter_band", {s.band_lo, s.band_hi}}});
   nlohmann::json j = to_json(o.report);
   j["model"] = "strain-graded optics (8 levels) on the FE geometry of each held step, Monte Carlo";
   j["equilibrium"] = {{"displacement_mm", o.displacement_mm},

@@ -24,6 +24,7 @@ class RunBrowserTest : public QObject {
   void refuses_corrupt_and_foreign_files();
   void fits_the_law_of_a_run_on_its_own_worker();
   void a_fit_that_cannot_be_made_is_reported();
+  void an_identification_that_cannot_be_made_is_reported();
   void computes_a_water_time_course_on_the_long_job_worker();
   void a_water_course_that_cannot_be_made_is_reported();
 
@@ -235,6 +236,25 @@ void RunBrowserTest::a_fit_that_cannot_be_made_is_reported() {
   QCOMPARE(fitted.count(), 0);
   QVERIFY(failed.at(0).at(0).toString().contains(QString::number(run_id_)));
   QVERIFY(failed.at(0).at(1).toString().contains(QStringLiteral("no_such_fit.json")));
+  QVERIFY(!backend.fitting());
+}
+
+// "Identify the sample" on a run the identification cannot model (this small run records no
+// sample thickness, nor any transmission): the failure names the run and what it lacks, rather
+// than drawing a T that was never identified, and the worker is free again.
+void RunBrowserTest::an_identification_that_cannot_be_made_is_reported() {
+  RunBrowserBackend backend;
+  QSignalSpy opened(&backend, &RunBrowserBackend::database_opened);
+  backend.open_database(db_path_);
+  QVERIFY(opened.wait(10000));
+  QSignalSpy failed(&backend, &RunBrowserBackend::failed);
+  QSignalSpy fitted(&backend, &RunBrowserBackend::law_fitted);
+  backend.fit_law(run_id_, QStringLiteral("identified"));
+  QVERIFY(failed.wait(120000));
+  QCOMPARE(fitted.count(), 0);
+  QVERIFY(failed.at(0).at(0).toString().contains(QString::number(run_id_)));
+  QVERIFY2(failed.at(0).at(1).toString().contains(QStringLiteral("thickness")),
+           qPrintable(failed.at(0).at(1).toString()));
   QVERIFY(!backend.fitting());
 }
 

@@ -139,6 +139,7 @@ void WidgetsTest::browser_draws_a_fit_only_on_its_own_run() {
   d.rows.push_back(r);
   view.show_run(d);
   QVERIFY(view.fit_button()->isEnabled());
+  QVERIFY(view.identify_button()->isEnabled());
   FittedLawView other;
   other.run_id = 8;
   other.points.push_back({0, 0.2, 0.6, 0.01, 0.55, 0.65});
@@ -149,7 +150,9 @@ void WidgetsTest::browser_draws_a_fit_only_on_its_own_run() {
   mine.summary = QStringLiteral("published law x 1.6");
   view.set_fitting(true);
   QVERIFY(!view.fit_button()->isEnabled());
+  QVERIFY(!view.identify_button()->isEnabled());  // one long job at a time
   view.set_fitting(false);
+  QVERIFY(view.identify_button()->isEnabled());
   view.show_fitted(mine);
   QCOMPARE(view.comparison()->fitted_points().size(), std::size_t{1});
   QVERIFY(view.fit_text().contains(QStringLiteral("x 1.6")));

@@ -200,13 +200,20 @@ void RunBrowserBackend::fit_law(std::int64_t run_id, const QString& material) {
         const auto c = analysis::compare_with_fitted_law(reader, run_id, o);
         FittedLawView v;
         v.run_id = run_id;
-        v.summary = c.fitted_here ? tr("published law x %1 (%2-%3, %4 %), %5 confidence laws")
-                                        .arg(c.factor, 0, 'f', 3)
-                                        .arg(c.factor_low, 0, 'f', 3)
-                                        .arg(c.factor_high, 0, 'f', 3)
-                                        .arg(100 * c.confidence, 0, 'f', 0)
-                                        .arg(c.band_laws.size())
-                                  : tr("law of %1, %2 confidence laws").arg(material).arg(c.band_laws.size());
+        v.summary =
+            c.identification
+                ? tr("identified sample: stiffness x %1 (%2-%3, 95 %), its clearing optics and delay; "
+                     "band: the optical parameters' 95 %")
+                      .arg(c.factor, 0, 'f', 3)
+                      .arg(c.factor_low, 0, 'f', 3)
+                      .arg(c.factor_high, 0, 'f', 3)
+            : c.fitted_here ? tr("published law x %1 (%2-%3, %4 %), %5 confidence laws")
+                                  .arg(c.factor, 0, 'f', 3)
+                                  .arg(c.factor_low, 0, 'f', 3)
+                                  .arg(c.factor_high, 0, 'f', 3)
+                                  .arg(100 * c.confidence, 0, 'f', 0)
+                                  .arg(c.band_laws.size())
+                            : tr("law of %1, %2 confidence laws").arg(material).arg(c.band_laws.size());
         for (const auto& s : c.steps) {
           if (!std::isfinite(s.T_fitted)) continue;
           v.points.push_back({s.index, s.nominal_strain, s.T_fitted, s.T_fitted_se, s.band_lo, s.band_hi});

@@ -86,8 +86,9 @@ class RunBrowserBackend : public QObject {
   void export_csv(std::int64_t run_id, const QString& path);
   /// Identifies the run's own law through the FE ("fitted") or takes it from a fit JSON
   /// (`tocdlab fit --method fe --json`), and re-predicts its steps with it and its confidence
-  /// laws. Minutes of work, on a worker of its own, so browsing goes on meanwhile; progress
-  /// lines come as fit_progress(). Ignored while a fit is running.
+  /// laws; or ("identified") identifies the whole sample and re-predicts with it. Minutes of work, on a
+  /// worker of its own, so browsing goes on meanwhile; progress lines come as fit_progress(). Ignored while a
+  /// fit is running.
   void fit_law(std::int64_t run_id, const QString& material = QStringLiteral("fitted"));
   bool fitting() const;
   /// Drives the biphasic FE along the run's recorded pin displacement and predicts T(t) at

@@ -33,6 +33,7 @@ BrowserView::BrowserView(QWidget* parent)
           {tr("Optical power (stored)"), tr("time (s)"), tr("power (W)"), 1e-9, 0.0, 100000}, this)),
       events_(new EventLog(this)),
       fit_button_(new QPushButton(tr("Fit the sample's law (FE)"), this)),
+      identify_button_(new QPushButton(tr("Identify the sample"), this)),
       fit_label_(new QLabel(this)),
       water_button_(new QPushButton(tr("Water time course (biphasic FE)"), this)),
       hold_step_(new QComboBox(this)),
@@ -50,6 +51,12 @@ BrowserView::BrowserView(QWidget* parent)
          "every step with it: fitted T with its Monte Carlo error and the model band over the fit's "
          "confidence laws (tocdlab compare --material fitted)"));
   fit_button_->setEnabled(false);
+  identify_button_->setToolTip(
+      tr("Identify the sample from the whole run (stiffness and relaxation, clearing and its delay, the "
+         "clearing optics by Monte Carlo; minutes) and re-predict every held step with it: identified T "
+         "with its Monte Carlo error and the band of the optical parameters' 95 % intervals (tocdlab compare "
+         "--material identified)"));
+  identify_button_->setEnabled(false);
   runs_->setColumnCount(7);
   runs_->setHorizontalHeaderLabels({tr("Run"), tr("Name"), tr("Status"), tr("Started (UTC)"), tr("Steps"),
                                     tr("Predictions"), tr("Operator")});
@@ -80,6 +87,7 @@ BrowserView::BrowserView(QWidget* parent)
 
   auto* fit_row = new QHBoxLayout();
   fit_row->addWidget(fit_button_);
+  fit_row->addWidget(identify_button_);
   fit_row->addWidget(fit_label_, 1);
   fit_row->addWidget(water_button_);
   fit_row->addWidget(hold_step_);
@@ -94,6 +102,9 @@ BrowserView::BrowserView(QWidget* parent)
     if (const auto id = selected_run(); id != 0) emit fit_requested(id);
   });
 
+  connect(identify_button_, &QPushButton::clicked, this, [this] {
+    if (const auto id = selected_run(); id != 0) emit identify_requested(id);
+  });
   connect(water_button_, &QPushButton::clicked, this, [this] {
     if (const auto id = selected_run(); id != 0) emit water_requested(id);
   });
@@ -163,6 +174,7 @@ void BrowserView::show_run(const RunDetails& d) {
     fit_label_->clear();
   }
   fit_button_->setEnabled(shown_run_ != 0 && !fitting_);
+  identify_button_->setEnabled(shown_run_ != 0 && !fitting_);
   water_button_->setEnabled(shown_run_ != 0 && !fitting_);
   if (water_ && water_->run_id == shown_run_) {
     show_water_course(*water_);
@@ -209,6 +221,7 @@ void BrowserView::show_fit_progress(const QString& line) {
 void BrowserView::set_fitting(bool fitting) {
   fitting_ = fitting;
   fit_button_->setEnabled(!fitting && shown_run_ != 0);
+  identify_button_->setEnabled(!fitting && shown_run_ != 0);
   water_button_->setEnabled(!fitting && shown_run_ != 0);
 }
 

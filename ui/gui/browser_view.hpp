@@ -54,6 +54,7 @@ class BrowserView : public QWidget {
   QString title_text() const;
   QString fit_text() const;
   QPushButton* fit_button() const noexcept { return fit_button_; }
+  QPushButton* identify_button() const noexcept { return identify_button_; }
   QPushButton* water_button() const noexcept { return water_button_; }
   HoldCourseChart* hold_chart() const noexcept { return hold_chart_; }
   QComboBox* hold_step() const noexcept { return hold_step_; }
@@ -62,6 +63,8 @@ class BrowserView : public QWidget {
  signals:
   void run_selected(qint64 run_id);
   void fit_requested(qint64 run_id);
+  /// Re-predict with the sample identified from the run (tocdlab compare --material identified).
+  void identify_requested(qint64 run_id);
   void water_requested(qint64 run_id);
 
  private:
@@ -74,6 +77,7 @@ class BrowserView : public QWidget {
   LiveChart* power_chart_;
   EventLog* events_;
   QPushButton* fit_button_;
+  QPushButton* identify_button_;
   QLabel* fit_label_;
   QPushButton* water_button_;
   QComboBox* hold_step_;

@@ -163,6 +163,10 @@ void MainWindow::connect_backends() {
     browser_view_->set_fitting(true);
     browser_->fit_law(id);
   });
+  connect(browser_view_, &BrowserView::identify_requested, this, [this](qint64 id) {
+    browser_view_->set_fitting(true);
+    browser_->fit_law(id, QStringLiteral("identified"));
+  });
   connect(browser_, &RunBrowserBackend::fit_progress, browser_view_, &BrowserView::show_fit_progress);
   connect(browser_view_, &BrowserView::water_requested, this, [this](qint64 id) {
     browser_view_->set_fitting(true);

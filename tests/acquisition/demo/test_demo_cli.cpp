@@ -67,11 +67,19 @@ TEST(Demo, EveryStepMeasuredAndPredictedCsvMatchesDatabaseAndRunCanBeFitted) {
       << g_out;
   EXPECT_NE(g_out.find("predicted T"), std::string::npos) << g_out;
   // Below the step table, on stdout: the sample identified from the run (tocdlab identify).
+  std::vector<double> identified_T;  // its re-predicted T per step, as printed (5 decimals)
   {
     const std::string out = slurp(g_dir / "out");
     EXPECT_NE(out.find("Identified sample of run 1"), std::string::npos) << g_out;
     EXPECT_NE(out.find("stiffness_scale"), std::string::npos) << g_out;
     EXPECT_LT(out.find("predicted T"), out.find("Identified sample of run")) << "the table comes first";
+    std::istringstream rows(out.substr(out.find("identified_T")));
+    std::string line;
+    std::getline(rows, line);  // the header
+    int step = 0;
+    double d = 0, measured = 0, measured_se = 0, T = 0, se = 0;
+    while (rows >> step >> d >> measured >> measured_se >> T >> se) identified_T.push_back(T);
+    ASSERT_EQ(identified_T.size(), 7u) << out;
   }
 
   // Every step has a measured and a predicted T in the CSV.
@@ -147,6 +155,36 @@ TEST(Demo, EveryStepMeasuredAndPredictedCsvMatchesDatabaseAndRunCanBeFitted) {
     EXPECT_EQ(before_end, 1) << "a sample after the run ended";
     EXPECT_EQ(clock_ahead, 1) << "clock_s: the run's own (4x) clock next to real time";
   }
+
+  // compare re-predicts every step with the identified sample (issue: "compare and the run
+  // browser re-predict with the identified sample beside the default"): the same
+  // identification as the demo's (same photons, same seed), so the same T to the printed
+  // digits, beside the stored default prediction, with a parameter band that holds it.
+  ASSERT_EQ(tocdlab(fmt::format("compare --db {} --run 1 --material identified --photons 4000 --json", db)),
+            0)
+      << g_out;
+  {
+    const auto c = nlohmann::json::parse(slurp(g_dir / "out"));
+    ASSERT_EQ(c["steps"].size(), 7u);
+    EXPECT_TRUE(c["identification"]["optics"].is_object());
+    for (std::size_t k = 0; k < 7; ++k) {
+      const auto& st = c["steps"][k];
+      const double T = st["predicted_T_fitted"], lo = st["model_band"][0], hi = st["model_band"][1];
+      EXPECT_NEAR(T, identified_T[k], 0.6e-5) << "step " << k + 1;
+      EXPECT_TRUE(st["predicted_T_default"].is_number()) << "the stored prediction beside it";
+      EXPECT_LE(lo, T);
+      EXPECT_GE(hi, T);
+      // At contact nothing is compressed, so the clearing's parameters move nothing there;
+      // every compressed step's T depends on them.
+      if (k == 0) {
+        EXPECT_NEAR(hi - lo, 0.0, 1e-9);
+      } else {
+        EXPECT_GT(hi - lo, 0.0) << "step " << k + 1;
+      }
+    }
+  }
+  EXPECT_NE(tocdlab(fmt::format("compare --db {} --run 99 --material identified", db)), 0);
+  EXPECT_NE(g_out.find("99"), std::string::npos) << g_out;
 
   // The recorded load/displacement feeds a material fit; an unknown run is a clear error.
   EXPECT_EQ(tocdlab(fmt::format("fit --db {} --run 1 --model ogden1", db)), 0) << g_out;

@@ -33,9 +33,11 @@ void install_compare(CLI::App& root) {
       ->check(cli::whole_in(std::int64_t{1}, std::numeric_limits<std::int64_t>::max()))
       ->required();
   cmd->add_flag("--json", o->json, "machine-readable output");
-  cmd->add_option("--material", o->fitted.material,
-                  "also re-predict every step with the sample's own law: 'fitted' (FE fit of this run) or a "
-                  "`tocdlab fit --method fe --json` file; shows MC and model-uncertainty bands");
+  cmd->add_option(
+      "--material", o->fitted.material,
+      "also re-predict every step with the sample's own law: 'fitted' (FE fit of this run), "
+      "'identified' (the sample identified from this run, optics included: tocdlab identify) or a "
+      "`tocdlab fit --method fe --json` file; shows MC and model-uncertainty bands");
   cmd->add_option("--pin-radius", o->fitted.pin_radius, "pin radius [mm] for the fit (--material fitted)")
       ->check(cli::real_above(0.0, 100.0))
       ->capture_default_str();

@@ -21,7 +21,12 @@ void run_compare_fitted(const CompareFittedOptions& o) {
   fo.threads = o.threads;
   fo.progress = [](const std::string& s) { std::cerr << s << '\n'; };
   const auto c = analysis::compare_with_fitted_law(reader, o.run, fo);
-  if (c.fitted_here)
+  const bool identified = c.identification.has_value();
+  if (identified)
+    std::cerr << fmt::format(
+        "run {}: identified stiffness scale on the published law {:.4f} [{:.4f}, {:.4f}] (95 %)\n", o.run,
+        c.factor, c.factor_low, c.factor_high);
+  else if (c.fitted_here)
     std::cerr << fmt::format(
         "run {}: fitted stiffness factor on the published law {:.4f} +- {:.4f} ({:.0f} %)\n", o.run, c.factor,
         c.factor_high - c.factor, 100 * c.confidence);
@@ -45,19 +50,27 @@ void run_compare_fitted(const CompareFittedOptions& o) {
       }
       steps.push_back(j);
     }
-    std::cout << nlohmann::json{{"run", o.run},
-                                {"material",
-                                 {{"mu_MPa", c.law.mu}, {"alpha", c.law.alpha}, {"D_per_MPa", c.law.D}}},
-                                {"band_laws", c.band_laws.size()},
-                                {"steps", steps}}
-                     .dump(2)
-              << '\n';
+    nlohmann::json doc{{"run", o.run},
+                       {"material", {{"mu_MPa", c.law.mu}, {"alpha", c.law.alpha}, {"D_per_MPa", c.law.D}}},
+                       {"band_laws", c.band_laws.size()},
+                       {"steps", steps}};
+    if (identified) {
+      doc["band"] = "the identified optical parameters' 95 % band";
+      doc["identification"] = analysis::to_json(*c.identification);
+    }
+    std::cout << doc.dump(2) << '\n';
     return;
   }
-  std::cout << fmt::format(
-      "run {}: default law (stored predictions) vs the sample's fitted law; model band over {} confidence "
-      "laws\n",
-      o.run, c.band_laws.size());
+  if (identified)
+    std::cout << fmt::format(
+        "run {}: default law (stored predictions) vs the identified sample (stiffness x{:.3f}, its clearing "
+        "optics and delay); band: the optical parameters' 95 %\n",
+        o.run, c.factor);
+  else
+    std::cout << fmt::format(
+        "run {}: default law (stored predictions) vs the sample's fitted law; model band over {} confidence "
+        "laws\n",
+        o.run, c.band_laws.size());
   std::cout << fmt::format("{:>4} {:>7} {:>9} {:>9} {:>9} | {:>9} {:>9} {:>8} {:>9} {:>8} {:>21}\n", "step",
                            "d_mm", "load_N", "F_default", "F_fitted", "meas_T", "T_default", "+-MC",
                            "T_fitted", "+-MC", "model band");
@@ -65,7 +78,7 @@ void run_compare_fitted(const CompareFittedOptions& o) {
     if (!std::isfinite(s.T_fitted)) continue;  // no stored prediction to re-make
     std::cout << fmt::format(
         "{:>4} {:>7.3f} {:>9.4f} {:>9.4f} {:>9.4f} | {:>9.4f} {:>9.4f} {:>8.4f} {:>9.4f} {:>8.4f} {:>21}\n",
-        s.index, s.displacement_mm, s.load_N, s.fe_force_default_N, s.fe_force_fitted_N, s.measured_T,
+        s.index + 1, s.displacement_mm, s.load_N, s.fe_force_default_N, s.fe_force_fitted_N, s.measured_T,
         s.T_default, s.T_default_se, s.T_fitted, s.T_fitted_se,
         fmt::format("[{:.4f}, {:.4f}]", s.band_lo, s.band_hi));
   }

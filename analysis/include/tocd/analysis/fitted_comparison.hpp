@@ -2,10 +2,12 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "tocd/analysis/identify_sample.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/sim/material/ogden.hpp"
 
@@ -13,11 +15,13 @@ namespace tocd::analysis {
 
 /// Where the sample's own law comes from (`tocdlab compare --material`, the window's run
 /// browser): fitted here to the run's load-displacement curve through the FE (model `scaled`:
-/// the published shape times one stiffness factor), or read from `tocdlab fit --method fe --json`.
+/// the published shape times one stiffness factor), read from `tocdlab fit --method fe --json`,
+/// or the whole identified sample (identify_sample.hpp): its stiffness, and T re-predicted
+/// with its identified clearing optics and delayed clearing.
 struct FittedComparisonOptions {
-  std::string material = "fitted";  ///< "fitted" or the path of a fit JSON
+  std::string material = "fitted";  ///< "fitted", "identified" or the path of a fit JSON
   double pin_radius_mm = 1.5;
-  std::uint64_t photons = 0;  ///< 0: each stored config's photon count
+  std::uint64_t photons = 0;  ///< 0: each stored config's photon count ("identified": the optics')
   int threads = 0;
   /// Progress lines (the fit's iterations, each step's predictions); may be empty.
   std::function<void(const std::string&)> progress;
@@ -46,12 +50,18 @@ struct FittedComparison {
   /// The stiffness factor and its interval when the law was fitted here (`scaled` model).
   double factor = 0, factor_low = 0, factor_high = 0, confidence = 0;
   bool fitted_here = false;
+  /// "identified": the identification the steps were re-predicted from. The band of each step
+  /// is then the optical parameters' 95 % band, and the law the published one times the
+  /// identified stiffness scale (factor: its value and profile interval).
+  std::optional<SampleIdentification> identification;
   std::vector<FittedStep> steps;
 };
 
 /// Identifies the sample's law and re-predicts every step that has a stored prediction with it
 /// and with each confidence law (T relative to the run's flat baseline, as the engine does).
-/// Throws ConfigError for an unreadable fit file, FitError when the fit fails, and
+/// With "identified", every held step the optics were identified from gets the identification's
+/// re-predicted T, stored prediction or not. Throws ConfigError for an unreadable fit file,
+/// FitError when the fit fails, tocd::Error when the run cannot identify its optics, and
 /// db::DatabaseError for an unknown run.
 FittedComparison compare_with_fitted_law(const db::Reader& reader, std::int64_t run_id,
                                          const FittedComparisonOptions& options);

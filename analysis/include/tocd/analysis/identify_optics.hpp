@@ -51,6 +51,9 @@ struct OpticsIdentification {
     double displacement_mm = 0;
     double measured_T = 0, measured_T_se = 0;    ///< the recording window's mean
     double predicted_T = 0, predicted_T_se = 0;  ///< re-predicted: identified optics and delay
+    /// The 95 % band of predicted_T over the optical parameters' uncertainty: their covariance
+    /// carried through the model's derivatives (linear; the Monte Carlo error is predicted_T_se).
+    double band_lo = 0, band_hi = 0;
   };
   std::vector<Step> steps;
   std::vector<double> displacement_mm, T_eq, T_model, T_model_se;  ///< per held displacement
