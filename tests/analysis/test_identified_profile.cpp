@@ -59,6 +59,20 @@ TEST(ProfileInterval, AProfileThatStaysLowRunsToTheRangeAndIsNotDetermined) {
   EXPECT_NE(p.why_not.find("above"), std::string::npos) << p.why_not;
 }
 
+TEST(ProfileInterval, AnIntervalOpenAtTheRangesEndIsABoundNotAValue) {
+  // Closed below at 200 s, open above: on the log scale of 0.1 .. 1000 s that is only 18 % of
+  // the plausible range, yet the run bounds the time from below alone. Not determined.
+  auto p = parameter(400.0, 50.0, {0.1, 1000.0, true});
+  a::apply_profile(p, [](double v) {
+    const double u = std::log(v / 400.0) / std::log(2.0) * kZ;
+    return v < 400.0 ? u * u : 0.5 * (1 - std::exp(-u * u));
+  });
+  EXPECT_NEAR(p.lo, 200.0, 1e-3 * 200.0);
+  EXPECT_DOUBLE_EQ(p.hi, 1000.0);
+  EXPECT_FALSE(p.determined);
+  EXPECT_NE(p.why_not.find("does not bound it above"), std::string::npos) << p.why_not;
+}
+
 TEST(ProfileInterval, AWideButClosedIntervalIsNotDetermined) {
   // Closed on both sides, but half the plausible range wide: the run says little.
   auto p = parameter(0.5, 0.15, {0.0, 1.0, false});
