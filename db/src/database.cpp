@@ -181,7 +181,7 @@ const std::vector<std::int64_t>& Database::interrupted_on_open() const noexcept 
 }
 
 std::string Database::integrity_check() const {
-  if (impl_->server) return "ok";
+  if (impl_->server) return impl_->server->integrity_check();
   std::lock_guard lk(impl_->mu);
   Statement s(impl_->c, "PRAGMA integrity_check");
   std::string out;

@@ -22,6 +22,14 @@ int PgDatabase::schema_version() const {
   return static_cast<int>(c_.query_int("SELECT value::int FROM meta WHERE key = 'schema_version'"));
 }
 
+std::string PgDatabase::integrity_check() const {
+  std::lock_guard lk(mu_);
+  const auto stray = c_.query_int(
+      "SELECT count(*) FROM samples s LEFT JOIN channels ch ON ch.id = s.channel_id "
+      "WHERE ch.id IS NULL OR ch.run_id <> s.run_id");
+  return stray == 0 ? std::string("ok") : fmt::format("{} sample(s) name a channel that is not in their run", stray);
+}
+
 bool PgDatabase::acquire(std::int64_t run_id) {
   if (held_.count(run_id)) return true;
   if (c_.query_int("SELECT pg_try_advisory_lock($1, $2::int)::int", {kLockSpace, run_id}) == 0) return false;

@@ -24,6 +24,9 @@ class PgDatabase {
 
   const std::vector<std::int64_t>& interrupted_on_open() const noexcept { return interrupted_; }
   int schema_version() const;
+  /// "ok", or what is inconsistent: the server checks its own pages, so this checks what the
+  /// schema leaves to the writer (samples have no foreign keys: see pg_schema.cpp).
+  std::string integrity_check() const;
 
   std::int64_t add_instrument(const InstrumentRecord& in);
   std::int64_t add_sample(const SampleRecord& sp);
