@@ -274,10 +274,10 @@ RunRecord Database::create_run(const NewRun& in) {
 }
 
 void Database::set_run_status(std::int64_t run_id, RunStatus status) {
-  if (impl_->server) return impl_->server->set_run_status(run_id, status);
   if (status == RunStatus::running)
     throw DatabaseError("a run cannot be set back to running; use resume (run " + std::to_string(run_id) +
                         ")");
+  if (impl_->server) return impl_->server->set_run_status(run_id, status);
   std::lock_guard lk(impl_->mu);
   detail::require_run(impl_->c, run_id);
   Statement s(impl_->c, "UPDATE runs SET status = ?, ended_utc_ns = ? WHERE id = ?");

@@ -46,9 +46,13 @@ class TestDatabase {
   TestDatabase& operator=(const TestDatabase&) = delete;
 
   /// What `--db` / Database / Reader / Writer take: a file path or a postgresql:// URI.
-  const std::string& location() const noexcept { return location_; }
+  const std::string& location() const noexcept {
+    return location_;
+  }
   /// A scratch directory for the test's other files (exports, CSVs).
-  const TempDir& dir() const noexcept { return dir_; }
+  const TempDir& dir() const noexcept {
+    return dir_;
+  }
   static constexpr bool server() noexcept {
 #ifdef TOCD_DB_TEST_SERVER
     return true;
@@ -62,9 +66,12 @@ class TestDatabase {
   /// the environment with_pg_server sets up).
   static void admin(const std::string& sql) {
     if (!std::getenv("PGPORT"))
-      throw std::runtime_error("no PostgreSQL test server: run this binary through tests/db/with_pg_server "
-                               "(ctest does)");
+      throw std::runtime_error(
+          "no PostgreSQL test server: run this binary through tests/db/with_pg_server "
+          "(ctest does)");
     PGconn* c = PQconnectdb("dbname=postgres");
+    PQsetNoticeProcessor(
+        c, [](void*, const char*) {}, nullptr);  // "does not exist, skipping"
     std::string error;
     if (PQstatus(c) != CONNECTION_OK) {
       error = PQerrorMessage(c);

@@ -29,7 +29,10 @@ using tocd::db::testing::TestDatabase;
 
 // A finished run with `samples` samples on two channels, steps, events and a prediction.
 std::int64_t record_run(Database& db, std::int64_t samples, RunStatus end = RunStatus::completed) {
-  const RunRecord run = db.create_run({.name = "pushed", .protocol_text = "p", .lab_config_text = "l"});
+  NewRun nr;
+  nr.name = "pushed";
+  nr.protocol_text = "name = \"p\"\n";
+  const RunRecord run = db.create_run(nr);
   const auto load = db.add_channel({0, run.id, "load", "N", 0, 1000.0});
   const auto power = db.add_channel({0, run.id, "power", "W", 0, 10.0});
   {
@@ -242,8 +245,7 @@ TEST(DbPush, AServerDatabaseOfAnotherApplicationIsLeftUntouched) {
 void server_ctl(const char* action) {
   const char* version = std::getenv("PGVERSION");
   ASSERT_NE(version, nullptr) << "PGVERSION: not inside with_pg_server";
-  const std::string cmd =
-      std::string("pg_ctlcluster ") + version + " regress " + action + " >/dev/null 2>&1";
+  const std::string cmd = std::string("pg_ctlcluster ") + version + " regress " + action + " >/dev/null 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
 }
 
@@ -282,10 +284,10 @@ TEST(DbPushFault, ServerKilledMidPushLeavesNoHalfRunAndTheNextPushCompletesIt) {
   // What the server kept: whole runs only.
   {
     const Reader local(file), remote(server.location());
-    const auto there = remote.runs();
+    const auto there = remote.runs(), here = local.runs();
     EXPECT_LT(there.size(), 4u);
     for (const auto& t : there) {
-      const auto* s = by_uuid(local.runs(), t.run.uuid);
+      const auto* s = by_uuid(here, t.run.uuid);
       ASSERT_NE(s, nullptr);
       EXPECT_EQ(samples_of(remote, t.run.id), samples_of(local, s->run.id));
     }
@@ -342,8 +344,8 @@ TEST(DbRoles, TheRigWritesTheAnalystOnlyReads) {
   {
     const std::string conninfo = "dbname=" + name;
     PGconn* c = PQconnectdb(conninfo.c_str());
-    PGresult* r = PQexec(c, (sql + "; ALTER ROLE tocd_rig PASSWORD '" + pw + "'; ALTER ROLE tocd_analyst PASSWORD '" +
-                             pw + "'")
+    PGresult* r = PQexec(c, (sql + "; ALTER ROLE tocd_rig PASSWORD '" + pw +
+                             "'; ALTER ROLE tocd_analyst PASSWORD '" + pw + "'")
                                 .c_str());
     ASSERT_EQ(PQresultStatus(r), PGRES_COMMAND_OK) << PQerrorMessage(c);
     PQclear(r);

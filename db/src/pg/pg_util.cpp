@@ -26,6 +26,53 @@ std::string trimmed(const char* message) {
 
 }  // namespace
 
+namespace {
+
+// Length of the valid UTF-8 sequence at the start of `v` (1 to 4), or 0 when it is invalid
+// (a stray continuation byte, an overlong form, a surrogate, beyond U+10FFFF, truncated).
+std::size_t utf8_length(std::string_view v) {
+  const auto b = [&](std::size_t i) { return static_cast<unsigned char>(v[i]); };
+  const unsigned char c = b(0);
+  if (c < 0x80) return c == 0 ? 0 : 1;
+  std::size_t n = 0;
+  unsigned char lo = 0x80, hi = 0xBF;  // allowed range of the second byte
+  if (c >= 0xC2 && c <= 0xDF) {
+    n = 2;
+  } else if (c >= 0xE0 && c <= 0xEF) {
+    n = 3;
+    if (c == 0xE0) lo = 0xA0;
+    if (c == 0xED) hi = 0x9F;
+  } else if (c >= 0xF0 && c <= 0xF4) {
+    n = 4;
+    if (c == 0xF0) lo = 0x90;
+    if (c == 0xF4) hi = 0x8F;
+  } else {
+    return 0;
+  }
+  if (v.size() < n || b(1) < lo || b(1) > hi) return 0;
+  for (std::size_t i = 2; i < n; ++i)
+    if (b(i) < 0x80 || b(i) > 0xBF) return 0;
+  return n;
+}
+
+}  // namespace
+
+std::string server_text(std::string_view v) {
+  std::string out;
+  out.reserve(v.size());
+  while (!v.empty()) {
+    const std::size_t n = utf8_length(v);
+    if (n == 0) {
+      out += "\xEF\xBF\xBD";
+      v.remove_prefix(1);
+    } else {
+      out.append(v.substr(0, n));
+      v.remove_prefix(n);
+    }
+  }
+  return out;
+}
+
 Param::Param(double v) {
   if (!std::isnan(v)) text_ = fmt::format("{}", v);  // shortest round-trip, "inf" as Infinity
   if (text_ && std::isinf(v)) text_ = v > 0 ? "Infinity" : "-Infinity";
@@ -189,7 +236,7 @@ void append_copy_value(std::string& out, std::int64_t v) {
 }
 
 void append_copy_text(std::string& out, std::string_view v) {
-  for (char ch : v) {
+  for (char ch : server_text(v)) {
     switch (ch) {
       case '\\':
         out += "\\\\";

@@ -17,16 +17,22 @@
 
 namespace tocd::db::pg {
 
+/// Text as a server database (UTF-8) can store it: every byte of an invalid UTF-8 sequence,
+/// and NUL, becomes U+FFFD; valid text, control characters included, is kept as it is. An
+/// SQLite file stores any bytes (an instrument's identity read before it was cleaned, a file
+/// written by something else); the server refuses them, and a push must not fail on them.
+std::string server_text(std::string_view v);
+
 /// One query parameter in libpq's text format; NaN doubles and std::nullopt are NULL.
 class Param {
  public:
-  Param(std::nullopt_t) {}                             // NOLINT(google-explicit-constructor): NULL
-  Param(std::int64_t v) : text_(std::to_string(v)) {}  // NOLINT
-  Param(int v) : text_(std::to_string(v)) {}           // NOLINT
-  Param(double v);                                     // NOLINT
-  Param(std::string_view v) : text_(v) {}              // NOLINT
-  Param(const std::string& v) : text_(v) {}            // NOLINT
-  Param(const char* v) : text_(v) {}                   // NOLINT
+  Param(std::nullopt_t) {}                                // NOLINT(google-explicit-constructor): NULL
+  Param(std::int64_t v) : text_(std::to_string(v)) {}     // NOLINT
+  Param(int v) : text_(std::to_string(v)) {}              // NOLINT
+  Param(double v);                                        // NOLINT
+  Param(std::string_view v) : text_(server_text(v)) {}    // NOLINT
+  Param(const std::string& v) : text_(server_text(v)) {}  // NOLINT
+  Param(const char* v) : text_(server_text(v)) {}         // NOLINT
   /// An id of 0 means "no reference": NULL.
   static Param id(std::int64_t v) { return v == 0 ? Param(std::nullopt) : Param(v); }
   const char* c_str() const noexcept { return text_ ? text_->c_str() : nullptr; }
