@@ -27,7 +27,8 @@ std::string PgDatabase::integrity_check() const {
   const auto stray = c_.query_int(
       "SELECT count(*) FROM samples s LEFT JOIN channels ch ON ch.id = s.channel_id "
       "WHERE ch.id IS NULL OR ch.run_id <> s.run_id");
-  return stray == 0 ? std::string("ok") : fmt::format("{} sample(s) name a channel that is not in their run", stray);
+  return stray == 0 ? std::string("ok")
+                    : fmt::format("{} sample(s) name a channel that is not in their run", stray);
 }
 
 bool PgDatabase::acquire(std::int64_t run_id) {
