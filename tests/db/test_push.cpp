@@ -213,6 +213,20 @@ TEST(DbPush, BadTargetsAreRefusedNamingWhatIsWrong) {
     EXPECT_THAT(e.what(), ::testing::Not(HasSubstr("secret")));
   }
   EXPECT_THROW(push_runs(file, "lab.db"), DatabaseError);
+  // A URI libpq cannot parse, and a user the server does not know: said, naming the server.
+  try {
+    push_runs(file, "postgresql://localhost:notaport/lab");
+    FAIL() << "push to a malformed URI succeeded";
+  } catch (const DatabaseError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("cannot connect to PostgreSQL at 'postgresql://localhost:notaport/lab'"));
+    EXPECT_THAT(e.what(), HasSubstr("port"));
+  }
+  try {
+    push_runs(file, "postgresql://no_such_user@/postgres");
+    FAIL() << "push as an unknown user succeeded";
+  } catch (const DatabaseError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("authentication failed for user \"no_such_user\""));
+  }
   EXPECT_EQ(tocd::db::testing::file_bytes(file), before);  // the file is only read
 }
 
