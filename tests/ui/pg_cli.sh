@@ -2,7 +2,7 @@
 # The command line on a PostgreSQL server (docs/database.md, "PostgreSQL"), run by ctest inside
 # tests/db/with_pg_server (PGHOST, PGPORT, PGUSER, PGPASSWORD set):
 #  1. a run recorded into a local file, pushed twice: the server holds it once, and compare,
-#     runs and export print from the server what they print from the file;
+#     export and fit print from the server what they print from the file;
 #  2. three rigs at once: two record into local files and push, one records into the server
 #     directly; all complete, the server's sample counts equal the files';
 #  3. the server down: a run with --db on the server is refused before anything moves; a run
@@ -40,7 +40,11 @@ for table in steps samples events; do
   "$tocdlab" export --db "$server" --run "$n" --table "$table" > "$table.server.csv"
   diff -q "$table.file.csv" "$table.server.csv" > /dev/null || fail "export --table $table differs"
 done
-echo "pg_cli: 1. one run pushed twice: once on the server, compare and export identical" >&2
+# The fit of a run's load/displacement reads the same data from either.
+"$tocdlab" fit --db local.db --run 1 > fit.file 2> /dev/null
+"$tocdlab" fit --db "$server" --run "$n" > fit.server 2> /dev/null
+diff fit.file fit.server || fail "fit differs between the file and the server"
+echo "pg_cli: 1. one run pushed twice: once on the server, compare, export and fit identical" >&2
 
 # 2. Three rigs at once.
 ( "$tocdlab" "${run[@]}" --seed 2 --db rig1.db > /dev/null 2> rig1.err &&
