@@ -51,6 +51,8 @@ tocd_require_package(tomlplusplus libtomlplusplus-dev)
 tocd_require_package(nlohmann_json nlohmann-json3-dev)
 tocd_require_pkgconfig(tocd_libmodbus libmodbus libmodbus-dev)
 tocd_require_pkgconfig(tocd_libusb libusb-1.0 libusb-1.0-0-dev)
+# The PostgreSQL backend of db/ (a lab's shared server): the client library only.
+tocd_require_pkgconfig(tocd_libpq libpq libpq-dev)
 tocd_require_header_library(tocd_tetgen tetgen.h tet libtet1.5-dev)
 # Debian's libtet is built as a library: tetgen.h must see TETLIBRARY.
 set_target_properties(tocd_tetgen PROPERTIES INTERFACE_COMPILE_DEFINITIONS TETLIBRARY)

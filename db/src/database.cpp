@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <mutex>
+#include <optional>
 #include <string>
 
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include "pg/pg_database.hpp"
 #include "rows.hpp"
 #include "run_lock.hpp"
 #include "schema.hpp"
@@ -15,6 +17,7 @@
 #include "tocd/core/clock.hpp"
 #include "tocd/core/log.hpp"
 #include "tocd/core/version.hpp"
+#include "tocd/db/location.hpp"
 #include "uuid.hpp"
 
 namespace tocd::db {
@@ -22,16 +25,25 @@ namespace tocd::db {
 using detail::Statement;
 using detail::Transaction;
 
+// Either backend: an SQLite file (c, locks) or a PostgreSQL server (server). Every public
+// method hands a server's call to PgDatabase, which keeps the same contracts.
 struct Database::Impl {
   std::filesystem::path path;
   detail::Connection c;
-  detail::RunLocks locks;
+  std::optional<detail::RunLocks> locks;
+  std::unique_ptr<pg::PgDatabase> server;
   std::vector<std::int64_t> interrupted;
   std::string journal_mode;
   mutable std::mutex mu;
 
-  Impl(const std::filesystem::path& p, detail::Connection conn)
-      : path(p), c(std::move(conn)), locks(p, true) {}
+  Impl(const std::filesystem::path& p, detail::Connection conn) : path(p), c(std::move(conn)) {
+    locks.emplace(p, true);
+  }
+  Impl(const std::filesystem::path& uri, std::unique_ptr<pg::PgDatabase> pg)
+      : path(uri),
+        server(std::move(pg)),
+        interrupted(server->interrupted_on_open()),
+        journal_mode("server") {}
 
   // At rest a database is one file: the last writer to close takes it out of WAL (checkpoint,
   // rollback journal), so that readers, which open it read-only, find no WAL and leave no
@@ -70,7 +82,7 @@ struct Database::Impl {
   void mark_interrupted() {
     std::vector<RunRecord> stale;
     for (auto& r : detail::all_runs(c))
-      if (r.status == RunStatus::running && !locks.is_held(r.id)) stale.push_back(std::move(r));
+      if (r.status == RunStatus::running && !locks->is_held(r.id)) stale.push_back(std::move(r));
     if (stale.empty()) return;
     Transaction t(c);
     for (const auto& r : stale) {
@@ -117,6 +129,10 @@ void require_writable(const std::filesystem::path& path) {
 }  // namespace
 
 Database::Database(const std::filesystem::path& path) {
+  if (is_server_uri(path.string())) {
+    impl_ = std::make_unique<Impl>(path, std::make_unique<pg::PgDatabase>(path.string()));
+    return;
+  }
   detail::identify(path);  // refuses foreign and newer files before anything is written
   require_writable(path);
   const bool existed = std::filesystem::exists(path) && std::filesystem::file_size(path) > 0;
@@ -151,6 +167,7 @@ const std::filesystem::path& Database::path() const noexcept {
 }
 
 int Database::schema_version() const {
+  if (impl_->server) return impl_->server->schema_version();
   std::lock_guard lk(impl_->mu);
   return static_cast<int>(impl_->c.query_int("PRAGMA user_version"));
 }
@@ -164,6 +181,7 @@ const std::vector<std::int64_t>& Database::interrupted_on_open() const noexcept 
 }
 
 std::string Database::integrity_check() const {
+  if (impl_->server) return impl_->server->integrity_check();
   std::lock_guard lk(impl_->mu);
   Statement s(impl_->c, "PRAGMA integrity_check");
   std::string out;
@@ -172,6 +190,7 @@ std::string Database::integrity_check() const {
 }
 
 std::int64_t Database::add_instrument(const InstrumentRecord& in) {
+  if (impl_->server) return impl_->server->add_instrument(in);
   std::lock_guard lk(impl_->mu);
   Statement s(impl_->c,
               "INSERT INTO instruments(kind, model, serial, firmware, calibration) VALUES(?,?,?,?,?) "
@@ -185,6 +204,7 @@ std::int64_t Database::add_instrument(const InstrumentRecord& in) {
 }
 
 std::int64_t Database::add_sample(const SampleRecord& sp) {
+  if (impl_->server) return impl_->server->add_sample(sp);
   std::lock_guard lk(impl_->mu);
   Statement s(impl_->c, "INSERT INTO specimens(name, tissue, thickness_mm, notes) VALUES(?,?,?,?)");
   s.bind(1, sp.name).bind(2, sp.tissue).bind(3, sp.thickness_mm).bind(4, sp.notes).run();
@@ -224,6 +244,7 @@ RunRecord Database::create_run(const NewRun& in) {
     throw DatabaseError(
         fmt::format("a run's clock factor must be a positive number, got {}", in.clock_factor));
   r.clock_factor = in.clock_factor;
+  if (impl_->server) return impl_->server->create_run(in, r);
 
   Transaction t(impl_->c);
   Statement s(impl_->c,
@@ -246,7 +267,7 @@ RunRecord Database::create_run(const NewRun& in) {
   }
   impl_->add_anchor(r.id, r.wall_anchor_utc_ns, r.monotonic_anchor_ns, r.clock_factor);
   // Lock before commit: from the moment the run is visible as running, it is visibly live.
-  if (!impl_->locks.acquire(r.id))
+  if (!impl_->locks->acquire(r.id))
     throw DatabaseError(fmt::format("run {} is already locked by another process", r.id));
   t.commit();
   return r;
@@ -256,14 +277,16 @@ void Database::set_run_status(std::int64_t run_id, RunStatus status) {
   if (status == RunStatus::running)
     throw DatabaseError("a run cannot be set back to running; use resume (run " + std::to_string(run_id) +
                         ")");
+  if (impl_->server) return impl_->server->set_run_status(run_id, status);
   std::lock_guard lk(impl_->mu);
   detail::require_run(impl_->c, run_id);
   Statement s(impl_->c, "UPDATE runs SET status = ?, ended_utc_ns = ? WHERE id = ?");
   s.bind(1, to_string(status)).bind(2, wall_clock_ns()).bind(3, run_id).run();
-  impl_->locks.release(run_id);
+  impl_->locks->release(run_id);
 }
 
 void Database::mark_run_ended(std::int64_t run_id) {
+  if (impl_->server) return impl_->server->mark_run_ended(run_id);
   std::lock_guard lk(impl_->mu);
   detail::require_run(impl_->c, run_id);
   Statement s(impl_->c, "UPDATE runs SET ended_utc_ns = ? WHERE id = ? AND status <> 'running'");
@@ -271,6 +294,7 @@ void Database::mark_run_ended(std::int64_t run_id) {
 }
 
 void Database::set_baseline_power(std::int64_t run_id, double baseline_power_W) {
+  if (impl_->server) return impl_->server->set_baseline_power(run_id, baseline_power_W);
   std::lock_guard lk(impl_->mu);
   detail::require_run(impl_->c, run_id);
   Statement s(impl_->c, "UPDATE runs SET baseline_power_W = ? WHERE id = ?");
@@ -280,14 +304,15 @@ void Database::set_baseline_power(std::int64_t run_id, double baseline_power_W) 
 ResumePoint Database::resume_run(std::int64_t run_id, double clock_factor) {
   if (!(clock_factor > 0.0) || !std::isfinite(clock_factor))
     throw DatabaseError(fmt::format("a run's clock factor must be a positive number, got {}", clock_factor));
+  if (impl_->server) return impl_->server->resume_run(run_id, clock_factor);
   std::lock_guard lk(impl_->mu);
   RunRecord r = detail::require_run(impl_->c, run_id);
   if (r.status == RunStatus::completed)
     throw DatabaseError(fmt::format("run {} is completed; there is nothing to resume", run_id));
   if (r.status == RunStatus::running)
     throw DatabaseError(fmt::format("run {} is still running{}; it cannot be resumed", run_id,
-                                    impl_->locks.is_held(run_id) ? " in another process" : ""));
-  if (!impl_->locks.acquire(run_id))
+                                    impl_->locks->is_held(run_id) ? " in another process" : ""));
+  if (!impl_->locks->acquire(run_id))
     throw DatabaseError(fmt::format("run {} is being resumed by another process", run_id));
   try {
     ResumePoint p;
@@ -334,17 +359,19 @@ ResumePoint Database::resume_run(std::int64_t run_id, double clock_factor) {
     p.run = r;
     return p;
   } catch (...) {
-    impl_->locks.release(run_id);
+    impl_->locks->release(run_id);
     throw;
   }
 }
 
 bool Database::is_live(std::int64_t run_id) const {
+  if (impl_->server) return impl_->server->is_live(run_id);
   std::lock_guard lk(impl_->mu);
-  return impl_->locks.is_held(run_id);
+  return impl_->locks->is_held(run_id);
 }
 
 Channel Database::add_channel(const Channel& ch) {
+  if (impl_->server) return impl_->server->add_channel(ch);
   std::lock_guard lk(impl_->mu);
   detail::require_run(impl_->c, ch.run_id);
   Statement s(impl_->c,
@@ -365,6 +392,7 @@ Channel Database::add_channel(const Channel& ch) {
 }
 
 std::int64_t Database::add_step(const StepRecord& st) {
+  if (impl_->server) return impl_->server->add_step(st);
   std::lock_guard lk(impl_->mu);
   auto& c = impl_->c;
   detail::require_run(c, st.run_id);
@@ -396,6 +424,7 @@ std::int64_t Database::add_step(const StepRecord& st) {
 }
 
 std::int64_t Database::add_event(const EventRecord& e) {
+  if (impl_->server) return impl_->server->add_event(e);
   std::lock_guard lk(impl_->mu);
   try {
     return impl_->insert_event(e);
@@ -405,6 +434,7 @@ std::int64_t Database::add_event(const EventRecord& e) {
 }
 
 std::int64_t Database::add_prediction(const PredictionRecord& p) {
+  if (impl_->server) return impl_->server->add_prediction(p);
   std::lock_guard lk(impl_->mu);
   detail::require_run(impl_->c, p.run_id);
   Statement s(
@@ -421,11 +451,13 @@ std::int64_t Database::add_prediction(const PredictionRecord& p) {
 }
 
 int Database::first_incomplete_step(std::int64_t run_id) const {
+  if (impl_->server) return impl_->server->first_incomplete_step(run_id);
   std::lock_guard lk(impl_->mu);
   return detail::first_incomplete_step(impl_->c, run_id);
 }
 
 RunRecord Database::run(std::int64_t run_id) const {
+  if (impl_->server) return impl_->server->run(run_id);
   std::lock_guard lk(impl_->mu);
   return detail::require_run(impl_->c, run_id);
 }

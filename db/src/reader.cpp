@@ -1,12 +1,16 @@
 #include "tocd/db/reader.hpp"
 
 #include <algorithm>
+#include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <fmt/format.h>
 
+#include "pg/pg_rows.hpp"
+#include "pg/pg_schema.hpp"
 #include "rows.hpp"
 #include "run_lock.hpp"
 #include "schema.hpp"
@@ -14,18 +18,29 @@
 #include "tocd/core/log.hpp"
 #include "tocd/core/printable.hpp"
 #include "tocd/db/database.hpp"
+#include "tocd/db/location.hpp"
 
 namespace tocd::db {
 
 using detail::Statement;
 
+// Either backend: an SQLite file (c, locks) or a PostgreSQL server (server, a read-only
+// session). Every public method hands a server's query to the pg:: row functions.
 struct Reader::Impl {
   std::string open_note;  // filled by open_read_only before `c` is used
   detail::Connection c;
-  detail::RunLocks locks;
+  std::optional<detail::RunLocks> locks;
+  std::unique_ptr<pg::Connection> server;
   mutable std::mutex mu;
   std::vector<std::string> warnings;
-  explicit Impl(const std::filesystem::path& p) : c(detail::open_read_only(p, &open_note)), locks(p, false) {
+  explicit Impl(const std::filesystem::path& p) {
+    if (is_server_uri(p.string())) {
+      server = std::make_unique<pg::Connection>(p.string(), true);
+      pg::require_schema(*server);
+      return;
+    }
+    c = detail::open_read_only(p, &open_note);
+    locks.emplace(p, false);
     if (!open_note.empty()) warnings.push_back(open_note);
     if (auto damage = quick_check(p); !damage.empty()) warnings.push_back(std::move(damage));
     for (const auto& w : warnings) logger("db")->warn("{}", w);
@@ -46,6 +61,32 @@ struct Reader::Impl {
 namespace {
 
 constexpr const char* kRange = " channel_id = ?1 AND t_ns BETWEEN ?2 AND ?3";
+
+// A server reader's multi-query answers come from one snapshot, as an SQLite read transaction's.
+constexpr const char* kSnapshot = "BEGIN ISOLATION LEVEL REPEATABLE READ READ ONLY";
+
+std::vector<RunSummary> server_runs(const pg::Connection& c) {
+  const pg::Transaction t(c, kSnapshot);
+  const pg::Result counts = c.query(
+      "SELECT r.id, (SELECT count(*) FROM steps WHERE run_id = r.id), (SELECT count(*) FROM predictions "
+      "WHERE run_id = r.id), (SELECT count(*) FROM events WHERE run_id = r.id) FROM runs r ORDER BY r.id");
+  std::vector<RunSummary> out;
+  int i = 0;
+  for (auto& r : pg::all_runs(c)) {
+    RunSummary s;
+    for (; i < counts.rows() && counts.i64(i, 0) < r.id; ++i) {
+    }
+    if (i < counts.rows() && counts.i64(i, 0) == r.id) {
+      s.steps = static_cast<int>(counts.i64(i, 1));
+      s.predictions = static_cast<int>(counts.i64(i, 2));
+      s.events = static_cast<int>(counts.i64(i, 3));
+    }
+    s.live = r.status == RunStatus::running && pg::run_locked(c, r.id);
+    s.run = std::move(r);
+    out.push_back(std::move(s));
+  }
+  return out;
+}
 
 void bind_range(Statement& s, std::int64_t channel_id, const SampleQuery& q) {
   s.bind(1, channel_id).bind(2, q.from_t_ns).bind(3, q.to_t_ns);
@@ -120,6 +161,7 @@ Reader& Reader::operator=(Reader&&) noexcept = default;
 
 std::vector<RunSummary> Reader::runs() const {
   std::lock_guard lk(impl_->mu);
+  if (impl_->server) return server_runs(*impl_->server);
   auto& c = impl_->c;
   Statement counts(c,
                    "SELECT (SELECT count(*) FROM steps WHERE run_id = ?1), (SELECT count(*) FROM predictions "
@@ -136,7 +178,7 @@ std::vector<RunSummary> Reader::runs() const {
       s.predictions = static_cast<int>(counts.col_int(1));
       s.events = static_cast<int>(counts.col_int(2));
       counts.reset();
-      s.live = impl_->locks.is_held(r.id);
+      s.live = impl_->locks->is_held(r.id);
       s.run = std::move(r);
       out.push_back(std::move(s));
     }
@@ -149,31 +191,53 @@ std::vector<RunSummary> Reader::runs() const {
 }
 
 std::optional<RunRecord> Reader::find_run(std::int64_t run_id) const {
+  if (impl_->server) {
+    std::lock_guard lk(impl_->mu);
+    return pg::find_run(*impl_->server, run_id);
+  }
   std::lock_guard lk(impl_->mu);
   return detail::find_run(impl_->c, run_id);
 }
 
 RunRecord Reader::run(std::int64_t run_id) const {
+  if (impl_->server) {
+    std::lock_guard lk(impl_->mu);
+    return pg::require_run(*impl_->server, run_id);
+  }
   std::lock_guard lk(impl_->mu);
   return detail::require_run(impl_->c, run_id);
 }
 
 std::vector<RunAnchor> Reader::anchors(std::int64_t run_id) const {
+  if (impl_->server) {
+    std::lock_guard lk(impl_->mu);
+    return pg::run_anchors(*impl_->server, run_id);
+  }
   std::lock_guard lk(impl_->mu);
   return detail::run_anchors(impl_->c, run_id);
 }
 
 bool Reader::is_live(std::int64_t run_id) const {
+  if (impl_->server) {
+    std::lock_guard lk(impl_->mu);
+    return pg::run_locked(*impl_->server, run_id);
+  }
   std::lock_guard lk(impl_->mu);
-  return impl_->locks.is_held(run_id);
+  return impl_->locks->is_held(run_id);
 }
 
 RunStatus Reader::shown_status(std::int64_t run_id) const {
   std::lock_guard lk(impl_->mu);
-  const RunRecord r = detail::require_run(impl_->c, run_id);
-  if (r.status != RunStatus::running || impl_->locks.is_held(run_id)) return r.status;
+  const auto stored = [&] {
+    return impl_->server ? pg::require_run(*impl_->server, run_id) : detail::require_run(impl_->c, run_id);
+  };
+  const auto locked = [&] {
+    return impl_->server ? pg::run_locked(*impl_->server, run_id) : impl_->locks->is_held(run_id);
+  };
+  const RunRecord r = stored();
+  if (r.status != RunStatus::running || locked()) return r.status;
   // Read again after the lock check: a run that ended in between shows its final status.
-  const RunStatus again = detail::require_run(impl_->c, run_id).status;
+  const RunStatus again = stored().status;
   return again == RunStatus::running ? RunStatus::interrupted : again;
 }
 
@@ -184,6 +248,10 @@ std::optional<InstrumentRecord> Reader::instrument(std::int64_t instrument_id) c
 }
 
 std::vector<InstrumentRecord> Reader::instruments() const {
+  if (impl_->server) {
+    std::lock_guard lk(impl_->mu);
+    return pg::instruments(*impl_->server);
+  }
   std::lock_guard lk(impl_->mu);
   Statement s(impl_->c, "SELECT id, kind, model, serial, firmware, calibration FROM instruments ORDER BY id");
   std::vector<InstrumentRecord> out;
@@ -193,6 +261,10 @@ std::vector<InstrumentRecord> Reader::instruments() const {
 }
 
 std::optional<SampleRecord> Reader::sample(std::int64_t sample_id) const {
+  if (impl_->server) {
+    std::lock_guard lk(impl_->mu);
+    return pg::specimen(*impl_->server, sample_id);
+  }
   std::lock_guard lk(impl_->mu);
   Statement s(impl_->c, "SELECT id, name, tissue, thickness_mm, notes FROM specimens WHERE id = ?");
   s.bind(1, sample_id);
@@ -201,6 +273,10 @@ std::optional<SampleRecord> Reader::sample(std::int64_t sample_id) const {
 }
 
 std::vector<Channel> Reader::channels(std::int64_t run_id) const {
+  if (impl_->server) {
+    std::lock_guard lk(impl_->mu);
+    return pg::run_channels(*impl_->server, run_id);
+  }
   std::lock_guard lk(impl_->mu);
   return detail::run_channels(impl_->c, run_id);
 }
@@ -212,6 +288,11 @@ std::optional<Channel> Reader::channel(std::int64_t run_id, const std::string& n
 }
 
 std::vector<Sample> Reader::samples(std::int64_t channel_id, const SampleQuery& q) const {
+  if (impl_->server) {
+    std::lock_guard lk(impl_->mu);
+    const pg::Transaction t(*impl_->server, kSnapshot);  // the span and the buckets from one snapshot
+    return pg::samples(*impl_->server, channel_id, q);
+  }
   std::lock_guard lk(impl_->mu);
   if (q.decimation == Decimation::none) return all_samples(impl_->c, channel_id, q);
   impl_->c.exec("BEGIN");  // the span and the buckets from one snapshot
@@ -226,6 +307,10 @@ std::vector<Sample> Reader::samples(std::int64_t channel_id, const SampleQuery& 
 }
 
 std::int64_t Reader::sample_count(std::int64_t channel_id, const SampleQuery& q) const {
+  if (impl_->server) {
+    std::lock_guard lk(impl_->mu);
+    return pg::sample_count(*impl_->server, channel_id, q);
+  }
   std::lock_guard lk(impl_->mu);
   Statement s(impl_->c, std::string("SELECT count(*) FROM samples WHERE") + kRange);
   bind_range(s, channel_id, q);
@@ -234,35 +319,49 @@ std::int64_t Reader::sample_count(std::int64_t channel_id, const SampleQuery& q)
 }
 
 std::vector<StepRecord> Reader::steps(std::int64_t run_id) const {
+  if (impl_->server) {
+    std::lock_guard lk(impl_->mu);
+    const pg::Transaction t(*impl_->server, kSnapshot);  // steps and their statistics together
+    return pg::run_steps(*impl_->server, run_id);
+  }
   std::lock_guard lk(impl_->mu);
   return detail::run_steps(impl_->c, run_id);
 }
 
 std::vector<EventRecord> Reader::events(std::int64_t run_id) const {
+  if (impl_->server) {
+    std::lock_guard lk(impl_->mu);
+    return pg::run_events(*impl_->server, run_id);
+  }
   std::lock_guard lk(impl_->mu);
   return detail::run_events(impl_->c, run_id);
 }
 
 std::vector<PredictionRecord> Reader::predictions(std::int64_t run_id) const {
+  if (impl_->server) {
+    std::lock_guard lk(impl_->mu);
+    return pg::run_predictions(*impl_->server, run_id);
+  }
   std::lock_guard lk(impl_->mu);
   return detail::run_predictions(impl_->c, run_id);
 }
 
-std::vector<CompareRow> Reader::compare(std::int64_t run_id) const {
-  std::vector<StepRecord> st;
-  std::vector<PredictionRecord> pr;
-  {
-    std::lock_guard lk(impl_->mu);
-    impl_->c.exec("BEGIN");
-    try {
-      st = detail::run_steps(impl_->c, run_id);
-      pr = detail::run_predictions(impl_->c, run_id);
-    } catch (...) {
-      impl_->c.exec("ROLLBACK");
-      throw;
-    }
-    impl_->c.exec("COMMIT");
+namespace {
+
+void read_steps_and_predictions(const detail::Connection& c, std::int64_t run_id, std::vector<StepRecord>& st,
+                                std::vector<PredictionRecord>& pr) {
+  c.exec("BEGIN");
+  try {
+    st = detail::run_steps(c, run_id);
+    pr = detail::run_predictions(c, run_id);
+  } catch (...) {
+    c.exec("ROLLBACK");
+    throw;
   }
+  c.exec("COMMIT");
+}
+
+std::vector<CompareRow> compare_rows(std::vector<StepRecord> st, const std::vector<PredictionRecord>& pr) {
   std::vector<CompareRow> out;
   for (auto& s : st) {
     // A step cut short (re-recorded or left incomplete; older runs stored such rows) is not a
@@ -280,7 +379,29 @@ std::vector<CompareRow> Reader::compare(std::int64_t run_id) const {
   return out;
 }
 
+}  // namespace
+
+std::vector<CompareRow> Reader::compare(std::int64_t run_id) const {
+  std::vector<StepRecord> st;
+  std::vector<PredictionRecord> pr;
+  {
+    std::lock_guard lk(impl_->mu);
+    if (impl_->server) {
+      const pg::Transaction t(*impl_->server, kSnapshot);
+      st = pg::run_steps(*impl_->server, run_id);
+      pr = pg::run_predictions(*impl_->server, run_id);
+    } else {
+      read_steps_and_predictions(impl_->c, run_id, st, pr);
+    }
+  }
+  return compare_rows(std::move(st), pr);
+}
+
 int Reader::first_incomplete_step(std::int64_t run_id) const {
+  if (impl_->server) {
+    std::lock_guard lk(impl_->mu);
+    return pg::first_incomplete_step(*impl_->server, run_id);
+  }
   std::lock_guard lk(impl_->mu);
   return detail::first_incomplete_step(impl_->c, run_id);
 }

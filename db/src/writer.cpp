@@ -13,10 +13,12 @@
 
 #include <fmt/format.h>
 
+#include "pg/pg_batch.hpp"
 #include "schema.hpp"
 #include "sqlite_util.hpp"
 #include "tocd/core/log.hpp"
 #include "tocd/db/database.hpp"
+#include "tocd/db/location.hpp"
 
 namespace tocd::db {
 
@@ -24,7 +26,8 @@ using Clock = std::chrono::steady_clock;
 
 struct Writer::Impl {
   WriterOptions opt;
-  detail::Connection c;
+  detail::Connection c;                     // an SQLite file, or
+  std::unique_ptr<pg::BatchWriter> server;  // a PostgreSQL server
 
   // Guarded by mu: the queue and the counters.
   mutable std::mutex mu;
@@ -48,6 +51,11 @@ struct Writer::Impl {
   std::unordered_map<std::int64_t, bool> run_exists;
 
   Impl(const std::filesystem::path& path, WriterOptions o) : opt(o) {
+    if (is_server_uri(path.string())) {
+      server = std::make_unique<pg::BatchWriter>(path.string());
+      thread = std::thread([this] { loop(); });
+      return;
+    }
     c = detail::open_read_only(path);  // identity and schema checks, without writing
     c = detail::Connection(path, SQLITE_OPEN_READWRITE);
     detail::configure_read_write(c);
@@ -187,6 +195,11 @@ struct Writer::Impl {
     for (int attempt = 0; attempt < 3; ++attempt) {
       written = rejected = 0;
       try {
+        if (server) {
+          server->write(batch, evs, written, rejected, error);
+          failed = 0;
+          return;
+        }
         detail::Transaction t(c);
         detail::Statement ins(
             c, "INSERT INTO samples(run_id, channel_id, t_ns, value, segment) VALUES(?,?,?,?,?)");

@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "temp_dir.hpp"
+#include "test_database.hpp"
 #include "tocd/core/clock.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/export.hpp"
@@ -16,7 +16,7 @@
 namespace {
 
 using namespace tocd::db;
-using tocd::db::testing::TempDir;
+using tocd::db::testing::TestDatabase;
 
 std::vector<std::string> lines(const std::string& text) {
   std::vector<std::string> out;
@@ -81,8 +81,8 @@ class DbExport : public ::testing::Test {
   }
   std::int64_t t(int i) const { return run_.monotonic_anchor_ns + 1'000'000LL * i; }  // 1 kHz
 
-  TempDir dir_;
-  std::filesystem::path path_ = dir_ / "lab.sqlite";
+  TestDatabase dir_;
+  std::filesystem::path path_ = dir_.location();
   RunRecord run_;
   Channel load_, power_;
 };

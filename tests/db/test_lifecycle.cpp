@@ -3,7 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "temp_dir.hpp"
+#include "test_database.hpp"
 #include "tocd/core/clock.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
@@ -12,7 +12,7 @@ namespace {
 
 using namespace tocd::db;
 using ::testing::HasSubstr;
-using tocd::db::testing::TempDir;
+using tocd::db::testing::TestDatabase;
 
 StepRecord completed_step(std::int64_t run, int index, std::int64_t t_ns) {
   StepRecord s;
@@ -26,8 +26,8 @@ StepRecord completed_step(std::int64_t run, int index, std::int64_t t_ns) {
 }
 
 TEST(DbLifecycle, RunLeftRunningByAClosedDatabaseIsInterruptedOnOpen) {
-  TempDir dir;
-  const auto path = dir / "lab.sqlite";
+  TestDatabase dir;
+  const auto path = dir.location();
   std::int64_t left = 0, done = 0;
   const auto t = tocd::monotonic_ns();
   {
@@ -56,8 +56,8 @@ TEST(DbLifecycle, RunLeftRunningByAClosedDatabaseIsInterruptedOnOpen) {
 }
 
 TEST(DbLifecycle, RunRecordingInALiveDatabaseIsNotMarked) {
-  TempDir dir;
-  const auto path = dir / "lab.sqlite";
+  TestDatabase dir;
+  const auto path = dir.location();
   Database recorder(path);
   const auto run = recorder.create_run({}).id;
   EXPECT_TRUE(recorder.is_live(run));
@@ -74,8 +74,8 @@ TEST(DbLifecycle, RunRecordingInALiveDatabaseIsNotMarked) {
 }
 
 TEST(DbLifecycle, InterruptedRunResumesAtFirstIncompleteStepWithAGapEvent) {
-  TempDir dir;
-  const auto path = dir / "lab.sqlite";
+  TestDatabase dir;
+  const auto path = dir.location();
   std::int64_t run = 0;
   const auto t0 = tocd::monotonic_ns();
   {
@@ -121,8 +121,8 @@ TEST(DbLifecycle, InterruptedRunResumesAtFirstIncompleteStepWithAGapEvent) {
 }
 
 TEST(DbLifecycle, AbortedRunCanBeResumedUnknownRunCannot) {
-  TempDir dir;
-  Database db(dir / "lab.sqlite");
+  TestDatabase dir;
+  Database db(dir.location());
   const auto run = db.create_run({}).id;
   db.set_run_status(run, RunStatus::aborted);
   EXPECT_FALSE(db.is_live(run));
@@ -139,8 +139,8 @@ TEST(DbLifecycle, AbortedRunCanBeResumedUnknownRunCannot) {
 // soon after is no reboot, and the gap event must not say the clock restarted. The resumed
 // segment's clock starts after the last record, so the run's times stay ordered.
 TEST(DbLifecycle, ResumeAfterSamplesStampedAheadDoesNotClaimTheClockRestarted) {
-  TempDir dir;
-  const auto path = dir / "lab.sqlite";
+  TestDatabase dir;
+  const auto path = dir.location();
   std::int64_t run = 0;
   const std::int64_t ahead = tocd::monotonic_ns() + 30'000'000'000;  // 30 s ahead
   {

@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "temp_dir.hpp"
+#include "test_database.hpp"
 #include "tocd/core/clock.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
@@ -18,11 +18,11 @@
 namespace {
 
 using namespace tocd::db;
-using tocd::db::testing::TempDir;
+using tocd::db::testing::TestDatabase;
 
 TEST(DbConcurrency, ReadersSeeCommittedPrefixesWhileTheWriterWrites) {
-  TempDir dir;
-  const auto path = dir / "lab.sqlite";
+  TestDatabase dir;
+  const auto path = dir.location();
   Database db(path);
   const auto run = db.create_run({}).id;
   const auto ch = db.add_channel({0, run, "load", "N", 0, 1000.0});
@@ -84,7 +84,7 @@ TEST(DbConcurrency, ReadersSeeCommittedPrefixesWhileTheWriterWrites) {
 class DbDecimation : public ::testing::Test {
  protected:
   void SetUp() override {
-    db_ = std::make_unique<Database>(dir_ / "lab.sqlite");
+    db_ = std::make_unique<Database>(dir_.location());
     const auto run = db_->create_run({}).id;
     ch_ = db_->add_channel({0, run, "load", "N", 0, kUnset}).id;
     Writer w(*db_);
@@ -92,13 +92,13 @@ class DbDecimation : public ::testing::Test {
   }
   static double value(int i) { return std::sin(0.01 * i) + (i == 4321 ? 50.0 : 0.0); }  // one spike
   static constexpr int kN = 10000;
-  TempDir dir_;
+  TestDatabase dir_;
   std::unique_ptr<Database> db_;
   std::int64_t ch_ = 0;
 };
 
 TEST_F(DbDecimation, TimeRangeIsInclusive) {
-  Reader rd(dir_ / "lab.sqlite");
+  Reader rd(dir_.location());
   SampleQuery q;
   q.from_t_ns = 1000 + 10 * 100;
   q.to_t_ns = 1000 + 10 * 199;
@@ -111,7 +111,7 @@ TEST_F(DbDecimation, TimeRangeIsInclusive) {
 }
 
 TEST_F(DbDecimation, MeanBucketsMatchADirectComputation) {
-  Reader rd(dir_ / "lab.sqlite");
+  Reader rd(dir_.location());
   SampleQuery q;
   q.decimation = Decimation::mean;
   q.max_points = 100;
@@ -140,7 +140,7 @@ TEST_F(DbDecimation, MeanBucketsMatchADirectComputation) {
 }
 
 TEST_F(DbDecimation, MinMaxKeepsTheSpikeAndTheRange) {
-  Reader rd(dir_ / "lab.sqlite");
+  Reader rd(dir_.location());
   SampleQuery q;
   q.decimation = Decimation::min_max;
   q.max_points = 200;

@@ -5,7 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "temp_dir.hpp"
+#include "test_database.hpp"
 #include "tocd/core/clock.hpp"
 #include "tocd/core/version.hpp"
 #include "tocd/db/database.hpp"
@@ -15,7 +15,7 @@
 namespace {
 
 using namespace tocd::db;
-using tocd::db::testing::TempDir;
+using tocd::db::testing::TestDatabase;
 
 NewRun sample_run() {
   NewRun r;
@@ -28,8 +28,8 @@ NewRun sample_run() {
 }
 
 TEST(DbRecords, RunRoundTripWithAnchorsAndUuid) {
-  TempDir dir;
-  Database db(dir / "lab.sqlite");
+  TestDatabase dir;
+  Database db(dir.location());
   const auto before_mono = tocd::monotonic_ns();
   const auto before_wall = tocd::wall_clock_ns();
   const RunRecord r = db.create_run(sample_run());
@@ -44,7 +44,7 @@ TEST(DbRecords, RunRoundTripWithAnchorsAndUuid) {
   EXPECT_LE(r.wall_anchor_utc_ns, after_wall);
   EXPECT_NE(db.create_run(sample_run()).uuid, r.uuid);
 
-  Reader rd(dir / "lab.sqlite");
+  Reader rd(dir.location());
   const RunRecord back = rd.run(r.id);
   EXPECT_EQ(back.uuid, r.uuid);
   EXPECT_EQ(back.name, r.name);
@@ -74,15 +74,15 @@ TEST(DbRecords, RunRoundTripWithAnchorsAndUuid) {
 }
 
 TEST(DbRecords, InstrumentsAreUpsertedBySerialAndSpecimensStored) {
-  TempDir dir;
-  Database db(dir / "lab.sqlite");
+  TestDatabase dir;
+  Database db(dir.location());
   const auto a = db.add_instrument({0, "power_meter", "PM100D", "P0012345", "2.1", "2025-01-10 cert 77"});
   const auto b = db.add_instrument({0, "power_meter", "PM100D", "P0012345", "2.2", "2026-01-10 cert 91"});
   const auto c = db.add_instrument({0, "mechanical_tester", "5943", "T-1", "", ""});
   EXPECT_EQ(a, b);
   EXPECT_NE(a, c);
   const auto sp = db.add_sample({0, "S-17", "porcine skin, abdomen", 2.1, "frozen once"});
-  Reader rd(dir / "lab.sqlite");
+  Reader rd(dir.location());
   const auto in = rd.instrument(a);
   ASSERT_TRUE(in.has_value());
   EXPECT_EQ(in->firmware, "2.2");
@@ -100,8 +100,8 @@ TEST(DbRecords, InstrumentsAreUpsertedBySerialAndSpecimensStored) {
 }
 
 TEST(DbRecords, ChannelsStepsEventsPredictionsRoundTrip) {
-  TempDir dir;
-  Database db(dir / "lab.sqlite");
+  TestDatabase dir;
+  Database db(dir.location());
   const auto run = db.create_run(sample_run());
   const auto inst = db.add_instrument({0, "mechanical_tester", "5943", "T-1", "", ""});
   const Channel load = db.add_channel({0, run.id, "load", "N", inst, 1000.0});
@@ -147,7 +147,7 @@ TEST(DbRecords, ChannelsStepsEventsPredictionsRoundTrip) {
   p.summary_json = R"({"tets":12345})";
   db.add_prediction(p);
 
-  Reader rd(dir / "lab.sqlite");
+  Reader rd(dir.location());
   const auto chans = rd.channels(run.id);
   ASSERT_EQ(chans.size(), 2u);
   EXPECT_EQ(chans[0].name, "load");
@@ -203,8 +203,8 @@ TEST(DbRecords, ChannelsStepsEventsPredictionsRoundTrip) {
 }
 
 TEST(DbRecords, ReAddedStepReplacesTheOldOneAndLatestPredictionWins) {
-  TempDir dir;
-  Database db(dir / "lab.sqlite");
+  TestDatabase dir;
+  Database db(dir.location());
   const auto run = db.create_run(sample_run());
   const Channel load = db.add_channel({0, run.id, "load", "N", 0, kUnset});
   StepRecord st;
@@ -225,7 +225,7 @@ TEST(DbRecords, ReAddedStepReplacesTheOldOneAndLatestPredictionWins) {
   db.add_prediction(p);
   p.T = 0.55;
   db.add_prediction(p);
-  Reader rd(dir / "lab.sqlite");
+  Reader rd(dir.location());
   const auto steps = rd.steps(run.id);
   ASSERT_EQ(steps.size(), 1u);
   EXPECT_TRUE(steps[0].completed);

@@ -7,7 +7,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "temp_dir.hpp"
+#include "test_database.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/db/writer.hpp"
@@ -15,11 +15,11 @@
 namespace {
 
 using namespace tocd::db;
-using tocd::db::testing::TempDir;
+using tocd::db::testing::TestDatabase;
 
 TEST(DbWriter, SamplesFromManyThreadsAreAllCommitted) {
-  TempDir dir;
-  const auto path = dir / "lab.sqlite";
+  TestDatabase dir;
+  const auto path = dir.location();
   Database db(path);
   const auto run = db.create_run({}).id;
   constexpr int kThreads = 4, kPerThread = 20000;
@@ -69,8 +69,8 @@ TEST(DbWriter, SamplesFromManyThreadsAreAllCommitted) {
 }
 
 TEST(DbWriter, BatchIntervalCommitsWithoutFlush) {
-  TempDir dir;
-  const auto path = dir / "lab.sqlite";
+  TestDatabase dir;
+  const auto path = dir.location();
   Database db(path);
   const auto run = db.create_run({}).id;
   const auto ch = db.add_channel({0, run, "load", "N", 0, kUnset});
@@ -88,8 +88,8 @@ TEST(DbWriter, BatchIntervalCommitsWithoutFlush) {
 }
 
 TEST(DbWriter, NanValuesSurviveAsNan) {
-  TempDir dir;
-  Database db(dir / "lab.sqlite");
+  TestDatabase dir;
+  Database db(dir.location());
   const auto run = db.create_run({}).id;
   const auto ch = db.add_channel({0, run, "power", "W", 0, kUnset});
   {
@@ -97,15 +97,15 @@ TEST(DbWriter, NanValuesSurviveAsNan) {
     w.enqueue(Sample{ch.id, 1, std::nan("")});  // an over-range reading
     w.enqueue(Sample{ch.id, 2, -0.0});
   }  // the destructor flushes
-  const auto got = Reader(dir / "lab.sqlite").samples(ch.id);
+  const auto got = Reader(dir.location()).samples(ch.id);
   ASSERT_EQ(got.size(), 2u);
   EXPECT_TRUE(std::isnan(got[0].value));
   EXPECT_EQ(got[1].value, 0.0);
 }
 
 TEST(DbWriter, FullQueueDropsAndCountsNeverBlocks) {
-  TempDir dir;
-  Database db(dir / "lab.sqlite");
+  TestDatabase dir;
+  Database db(dir.location());
   const auto run = db.create_run({}).id;
   const auto ch = db.add_channel({0, run, "load", "N", 0, kUnset});
   // A long interval and a huge batch size: nothing leaves the queue before the flush.
@@ -130,8 +130,8 @@ TEST(DbWriter, FullQueueDropsAndCountsNeverBlocks) {
 }
 
 TEST(DbWriter, UnknownChannelIsRejectedOthersKept) {
-  TempDir dir;
-  Database db(dir / "lab.sqlite");
+  TestDatabase dir;
+  Database db(dir.location());
   const auto run = db.create_run({}).id;
   const auto ch = db.add_channel({0, run, "load", "N", 0, kUnset});
   Writer w(db);

@@ -101,7 +101,7 @@ BUILD_BIN = re.compile(r"(?<![\w/.])(?:\./)?build/[\w.+-]+/bin/(?=tocdlab)")
 
 # Subcommands when no binary is at hand (--list, --check-links); with --bin-dir the list comes
 # from `tocdlab --help` so a new command is recognised without an edit here.
-DEFAULT_SUBCOMMANDS = {"compare", "demo", "devices", "export", "fe", "fit", "identify", "mc", "plot",
+DEFAULT_SUBCOMMANDS = {"compare", "db", "demo", "devices", "export", "fe", "fit", "identify", "mc", "plot",
                        "powermeter", "predict", "run", "runs", "simlab", "study", "version"}
 
 

@@ -7,6 +7,7 @@
 #include "background.hpp"
 #include "tocd/analysis/fitted_comparison.hpp"
 #include "tocd/db/export.hpp"
+#include "tocd/db/location.hpp"
 
 namespace tocd::gui {
 
@@ -126,7 +127,7 @@ void RunBrowserBackend::open_database(const QString& path) {
       [path] {
         // Reader refuses (DatabaseError) a file that is missing, not SQLite, not tocdlab, or
         // of another schema, and never writes to it.
-        if (!QFileInfo::exists(path)) {
+        if (!db::is_server_uri(path.toStdString()) && !QFileInfo::exists(path)) {
           throw std::runtime_error("no such file: " + path.toStdString());
         }
         Opened o;
@@ -139,7 +140,10 @@ void RunBrowserBackend::open_database(const QString& path) {
         path_ = path;
         emit database_opened(path, o.runs);
       },
-      [this, path](const QString& message) { emit failed(tr("Opening %1").arg(path), message); });
+      [this, path](const QString& message) {
+        emit failed(tr("Opening %1").arg(QString::fromStdString(db::display_location(path.toStdString()))),
+                    message);
+      });
 }
 
 void RunBrowserBackend::refresh() {

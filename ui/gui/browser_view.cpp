@@ -16,6 +16,7 @@
 #include "hold_course_chart.hpp"
 #include "live_chart.hpp"
 #include "step_table_model.hpp"
+#include "tocd/db/location.hpp"
 
 namespace tocd::gui {
 
@@ -129,7 +130,8 @@ QString BrowserView::title_text() const {
 }
 
 void BrowserView::show_database(const QString& path, const QVector<RunListing>& runs) {
-  title_->setText(tr("Database: %1 (read-only)").arg(path));
+  title_->setText(
+      tr("Database: %1 (read-only)").arg(QString::fromStdString(db::display_location(path.toStdString()))));
   steps_->clear();
   comparison_->clear();
   load_chart_->clear();

@@ -32,8 +32,9 @@ class MainWindow : public QMainWindow {
 
  public:
   /// Which file a command asks for.
-  enum class FileRequest { lab_config, protocol, record_database, open_database, export_csv };
-  /// Asks the user for a path (a file dialog by default); empty = cancelled.
+  enum class FileRequest { lab_config, protocol, record_database, open_database, open_server, export_csv };
+  /// Asks the user for a path (a file dialog by default; open_server: a postgresql:// URI typed
+  /// in); empty = cancelled.
   using FileChooser = std::function<QString(FileRequest)>;
   /// Makes the step predictor of a new run (default: the simulator with the photon budget of
   /// the simulation view; null = record without predictions).
@@ -50,6 +51,7 @@ class MainWindow : public QMainWindow {
     QAction* resume = nullptr;
     QAction* abort = nullptr;
     QAction* open_database = nullptr;
+    QAction* open_server = nullptr;  // a lab's PostgreSQL server (docs/database.md)
     QAction* export_csv = nullptr;
     QAction* predict = nullptr;
     QAction* run_study = nullptr;
@@ -117,6 +119,7 @@ class MainWindow : public QMainWindow {
   void choose_record_database();
   void start_run();
   void open_database();
+  void open_server_database();
   void export_csv();
   void predict_one();
   void run_study();

@@ -4,6 +4,8 @@
 #include <QFile>
 #include <QFileDialog>
 #include <QFileInfo>
+#include <QInputDialog>
+#include <QLineEdit>
 #include <QMenuBar>
 #include <QStandardPaths>
 #include <QStatusBar>
@@ -49,6 +51,8 @@ void MainWindow::build_actions() {
   connect(actions_.abort, &QAction::triggered, this, [this] { run_->abort(); });
   actions_.open_database =
       make(tr("Open database…"), QStringLiteral("open_database"), &MainWindow::open_database);
+  actions_.open_server = make(tr("Open server database…"), QStringLiteral("open_server_database"),
+                              &MainWindow::open_server_database);
   actions_.export_csv = make(tr("Export run as CSV…"), QStringLiteral("export_csv"), &MainWindow::export_csv);
   actions_.predict = make(tr("Predict one step"), QStringLiteral("predict"), &MainWindow::predict_one);
   actions_.run_study = make(tr("Run the study"), QStringLiteral("run_study"), &MainWindow::run_study);
@@ -67,6 +71,7 @@ void MainWindow::build_actions() {
   for (QAction* a : {actions_.start, actions_.pause, actions_.resume, actions_.abort}) run->addAction(a);
   QMenu* data = menuBar()->addMenu(tr("&Data"));
   data->addAction(actions_.open_database);
+  data->addAction(actions_.open_server);
   data->addAction(actions_.export_csv);
   QMenu* sim = menuBar()->addMenu(tr("&Simulation"));
   sim->addAction(actions_.predict);
@@ -116,6 +121,11 @@ QString MainWindow::ask_file(FileRequest request) {
     case FileRequest::open_database:
       return QFileDialog::getOpenFileName(this, tr("Open database"), settings_->last_database_path(),
                                           tr("tocdlab database (*.tocdlab *.sqlite *.db);;All files (*)"));
+    case FileRequest::open_server:
+      // No password here: libpq takes it from ~/.pgpass or PGPASSWORD.
+      return QInputDialog::getText(this, tr("Open server database"),
+                                   tr("PostgreSQL connection URI (postgresql://user@host/database):"),
+                                   QLineEdit::Normal, QStringLiteral("postgresql://"));
     case FileRequest::export_csv:
       return QFileDialog::getSaveFileName(this, tr("Export run as CSV"), QString(), tr("CSV (*.csv)"));
   }
@@ -209,6 +219,13 @@ void MainWindow::open_database() {
   if (path.isEmpty()) return;
   settings_->set_last_database_path(path);
   browser_->open_database(path);
+  tabs_->setCurrentWidget(browser_view_);
+}
+
+void MainWindow::open_server_database() {
+  const QString uri = ask_file(FileRequest::open_server).trimmed();
+  if (uri.isEmpty() || uri == QStringLiteral("postgresql://")) return;
+  browser_->open_database(uri);
   tabs_->setCurrentWidget(browser_view_);
 }
 

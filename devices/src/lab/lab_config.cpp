@@ -166,6 +166,7 @@ LabConfig parse_lab_config(std::string_view toml_text, const std::string& source
     if (key == "lab") {
       TableReader r(*t, "lab", source_name);
       cfg.name = r.str("name", "");
+      cfg.push_to = r.str("push_to", "");
       r.reject_unknown();
     } else if (key == "tester") {
       cfg.tester = read_tester(*t, source_name);
@@ -226,7 +227,12 @@ std::string to_toml(const LabConfig& cfg) {
   auto link = [&](const ModbusOptions& o) {
     out += fmt::format("timeout_s = {}\nretries = {}\nbackoff_s = {}\n", o.timeout_s, o.retries, o.backoff_s);
   };
-  if (!cfg.name.empty()) out += fmt::format("[lab]\nname = {}\n\n", toml_string(cfg.name));
+  if (!cfg.name.empty() || !cfg.push_to.empty()) {
+    out += "[lab]\n";
+    if (!cfg.name.empty()) out += fmt::format("name = {}\n", toml_string(cfg.name));
+    if (!cfg.push_to.empty()) out += fmt::format("push_to = {}\n", toml_string(cfg.push_to));
+    out += "\n";
+  }
   if (cfg.tester) {
     const auto& a = cfg.tester->address;
     out += fmt::format("[tester]\ntransport = \"modbus-tcp\"\nhost = {}\nport = {}\nslave_id = {}\n",

@@ -109,6 +109,17 @@ TEST(LabConfig, RoundTripKeepsALeadingNewline) {
   EXPECT_EQ(b.tester->address.host, "\n::1");
 }
 
+// [lab] push_to names the server `tocdlab run` pushes each run to (docs/database.md).
+TEST(LabConfig, PushToIsReadAndWrittenBack) {
+  const LabConfig a = parse_lab_config(
+      "[lab]\npush_to = \"postgresql://rig1@lab-db/lab\"\n[tester]\nhost = \"h\"\n", "lab.toml");
+  EXPECT_EQ(a.push_to, "postgresql://rig1@lab-db/lab");
+  EXPECT_TRUE(a.name.empty());
+  EXPECT_EQ(parse_lab_config(to_toml(a), "round trip").push_to, a.push_to);
+  EXPECT_TRUE(parse_lab_config(kFull, "lab.toml").push_to.empty());
+  EXPECT_NE(error_of("[lab]\npush_to = 5\n[tester]\nhost = \"h\"\n").find("push_to"), std::string::npos);
+}
+
 TEST(LabConfig, ErrorsNameLineAndKey) {
   std::string e = error_of("[tester]\nhost = \"h\"\nport = 99999\n");
   EXPECT_NE(e.find("lab.toml:3"), std::string::npos) << e;

@@ -28,7 +28,8 @@ struct CompareOptions {
 void install_compare(CLI::App& root) {
   auto* cmd = root.add_subcommand("compare", "Measured vs. predicted transmission per step of a run");
   auto o = std::make_shared<CompareOptions>();
-  cmd->add_option("--db", o->db, "measurement database file")->required();
+  cmd->add_option("--db", o->db, "measurement database file, or a PostgreSQL server (postgresql://...)")
+      ->required();
   cmd->add_option("--run", o->run, "run id (see tocdlab runs)")
       ->check(cli::whole_in(std::int64_t{1}, std::numeric_limits<std::int64_t>::max()))
       ->required();

@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
+#include "db_location_option.hpp"
 #include "identify_report.hpp"
 #include "numeric_options.hpp"
 #include "output_naming.hpp"
@@ -34,6 +35,7 @@
 #include "tocd/core/error.hpp"
 #include "tocd/core/log.hpp"
 #include "tocd/db/database.hpp"
+#include "tocd/db/location.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/devices/lab.hpp"
 #include "tocd/mocks/default_sample.hpp"
@@ -95,8 +97,11 @@ void run_demo(const DemoOptions& o) {
   predict.seed = o.seed;
   predict.mc_threads = o.threads;
   an::validate(predict);  // before the sample's preparation: a minute or more
-  const std::string csv_path =
-      o.csv.empty() ? std::filesystem::path(o.db).replace_extension(".csv").string() : o.csv;
+  // Beside a database file; a server's table goes to the working directory.
+  const std::string csv_path = !o.csv.empty() ? o.csv
+                               : tocd::db::is_server_uri(o.db)
+                                   ? std::string("tocdlab-demo.csv")
+                                   : std::filesystem::path(o.db).replace_extension(".csv").string();
 
   // 1. The simulated sample: FE load curve and Monte Carlo transmission at the protocol's steps.
   cli::SampleChoice sample = o.truth;
@@ -146,7 +151,8 @@ void run_demo(const DemoOptions& o) {
     const tocd::cli::AbortOnSignal::Attached attached(*signals, engine);
     run_id = engine.start(protocol);
     if (!cli::progress_quiet())
-      std::cerr << fmt::format("run {} ({} steps) recording into {}", run_id, protocol.steps.size(), o.db)
+      std::cerr << fmt::format("run {} ({} steps) recording into {}", run_id, protocol.steps.size(),
+                               tocd::db::display_location(o.db))
                 << std::endl;
     phases.mark("run started");
     final_state = engine.wait();
@@ -172,7 +178,7 @@ void run_demo(const DemoOptions& o) {
     nlohmann::json summary = {{"run_id", run_id},
                               {"state", acq::to_string(final_state)},
                               {"error", error},
-                              {"files", {{"database", o.db}, {"csv", csv_path}}},
+                              {"files", {{"database", tocd::db::display_location(o.db)}, {"csv", csv_path}}},
                               {"simulated_sample",
                                {{"seconds", table.seconds},
                                 {"from_cache", table.from_cache},
@@ -197,7 +203,9 @@ void run_demo(const DemoOptions& o) {
       tocd::cli::print_identification(std::cout, *id);
     }
   }
-  cli::announce_file("database", fmt::format("{}  (tocdlab compare --db {} --run {})", o.db, o.db, run_id));
+  const std::string shown_db = tocd::db::display_location(o.db);
+  cli::announce_file("database",
+                     fmt::format("{}  (tocdlab compare --db {} --run {})", shown_db, shown_db, run_id));
   cli::announce_file("table (CSV)", csv_path);
   if (final_state != acq::EngineState::completed)
     throw tocd::Error(fmt::format("demo run {} ended {}: {}", run_id, acq::to_string(final_state), error));
@@ -213,8 +221,11 @@ void install_demo(CLI::App& root) {
   auto* cmd = root.add_subcommand(
       "demo", "Run the demo pin-compression protocol on the simulated lab and compare with the simulator");
   auto o = std::make_shared<DemoOptions>();
-  cmd->add_option("--db", o->db, "measurement database file (created when absent; runs are appended)")
-      ->check(cli::output_file())
+  cmd->add_option(
+         "--db", o->db,
+         "measurement database file (created when absent; runs are appended), or a PostgreSQL server "
+         "(postgresql://...)")
+      ->check(cli::database_output())
       ->capture_default_str();
   cmd->add_option("-o,--output", o->csv,
                   "measured vs. predicted table as CSV (default: the database name with .csv)")

@@ -53,7 +53,8 @@ void export_run(const ExportOptions& o) {
 void install_export(CLI::App& root) {
   auto* cmd = root.add_subcommand("export", "Export a run as CSV or JSON");
   auto o = std::make_shared<ExportOptions>();
-  cmd->add_option("--db", o->db, "measurement database file")->required();
+  cmd->add_option("--db", o->db, "measurement database file, or a PostgreSQL server (postgresql://...)")
+      ->required();
   cmd->add_option("--run", o->run, "run id (see tocdlab runs)")
       ->check(cli::whole_in(std::int64_t{1}, std::numeric_limits<std::int64_t>::max()))
       ->required();

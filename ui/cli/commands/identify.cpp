@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "command_registry.hpp"
+#include "db_location_option.hpp"
 #include "identify_report.hpp"
 #include "output_naming.hpp"
 #include "tocd/analysis/identify_sample.hpp"
@@ -51,7 +52,9 @@ void install_identify(CLI::App& root) {
       "Identify a recorded run's sample: QLV mechanics on the FE, clearing optics on the Monte Carlo, "
       "with 95 % intervals and what the run does not determine (docs/identify.md)");
   auto o = std::make_shared<IdentifyOptions>();
-  cmd->add_option("--db", o->db, "measurement database file")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--db", o->db, "measurement database file, or a PostgreSQL server (postgresql://...)")
+      ->required()
+      ->check(tocd::cli::database_input());
   cmd->add_option("--run", o->run, "run id (see tocdlab runs --db FILE)")
       ->required()
       ->check(CLI::Range(std::int64_t{1}, std::numeric_limits<std::int64_t>::max()));

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
+#include "db_location_option.hpp"
 #include "numeric_options.hpp"
 #include "output_naming.hpp"
 #include "output_paths.hpp"
@@ -26,6 +27,8 @@
 #include "tocd/analysis/sim_step_predictor.hpp"
 #include "tocd/core/log.hpp"
 #include "tocd/db/database.hpp"
+#include "tocd/db/location.hpp"
+#include "tocd/db/push.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/devices/lab.hpp"
 #include "tocd/mocks/default_sample.hpp"
@@ -37,7 +40,7 @@ namespace cli = tocd::cli;
 namespace {
 
 struct RunOptions {
-  std::string protocol, lab, db, operator_name;
+  std::string protocol, lab, db, operator_name, push_to;
   std::optional<std::int64_t> resume;
   bool simulated = false, no_predict = false, json = false;
   cli::SampleChoice sample;  // --simulated: the simulated lab's sample
@@ -51,6 +54,25 @@ std::string read_text(const std::string& path) {
   std::ostringstream ss;
   ss << in.rdbuf();
   return ss.str();
+}
+
+// Store-and-forward: the run is whole in its local file; a server that is away now gets it
+// from a later push, so a failed push is said and the run's outcome stands.
+void push_after_run(const RunOptions& o, const std::string& server, std::int64_t run_id) {
+  namespace db = tocd::db;
+  if (db::is_server_uri(o.db)) return;  // recorded into the server directly
+  const std::string later =
+      fmt::format("tocdlab db push --from {} --to {}", o.db, db::display_location(server));
+  try {
+    for (const auto& r : db::push_runs(o.db, server))
+      if (r.local_id == run_id)
+        std::cerr << fmt::format("run {} pushed to {} as run {} ({})\n", run_id, db::display_location(server),
+                                 r.server_id, db::to_string(r.action));
+  } catch (const tocd::Error& e) {
+    std::cerr << fmt::format(
+        "warning: run {} is recorded in {} but was not pushed: {}. Push it later with: {}\n", run_id, o.db,
+        e.what(), later);
+  }
 }
 
 void run_protocol(const RunOptions& o) {
@@ -135,7 +157,8 @@ void run_protocol(const RunOptions& o) {
     const tocd::cli::AbortOnSignal::Attached attached(signals, engine);
     run_id = o.resume ? engine.resume(*o.resume) : engine.start(protocol);
     if (!cli::progress_quiet())
-      std::cerr << fmt::format("run {} ({} steps) recording into {}", run_id, protocol.steps.size(), o.db)
+      std::cerr << fmt::format("run {} ({} steps) recording into {}", run_id, protocol.steps.size(),
+                               tocd::db::display_location(o.db))
                 << std::endl;
     phases.mark("run started");
     final_state = engine.wait();
@@ -155,13 +178,16 @@ void run_protocol(const RunOptions& o) {
                        {"stored", stats.predictions_stored},
                        {"failed", stats.predictions_failed},
                        {"cancelled", stats.predictions_cancelled}}},
-                     {"files", {{"database", o.db}}},
+                     {"files", {{"database", tocd::db::display_location(o.db)}}},
                      {"compare", acq::to_json(table)}});
   } else {
     std::cout << acq::format_compare_table(table);
   }
-  const std::string again = fmt::format("tocdlab run --resume {} --db {} {}", run_id, o.db,
-                                        o.simulated ? std::string("--simulated") : "--lab " + o.lab);
+  const std::string push_to = o.push_to.empty() && lab_cfg ? lab_cfg->push_to : o.push_to;
+  if (!push_to.empty()) push_after_run(o, push_to, run_id);  // however it ended: interrupted runs too
+  const std::string again =
+      fmt::format("tocdlab run --resume {} --db {} {}", run_id, tocd::db::display_location(o.db),
+                  o.simulated ? std::string("--simulated") : "--lab " + o.lab);
   // Exit status (docs/acquisition.md): 0 only when the run completed or the operator aborted
   // it and every sample reached the file.
   const std::uint64_t lost = stats.samples_dropped + stats.writer.failed_samples;
@@ -208,8 +234,10 @@ void install_run(CLI::App& root) {
   cmd->add_option("--lab", o->lab, "lab config TOML: which instruments, where");
   cmd->add_flag("--simulated", o->simulated, "use the built-in simulated lab instead of --lab");
   cli::add_sample_options(*cmd, o->sample);
-  cmd->add_option("--db", o->db, "measurement database file (created when absent)")
-      ->check(cli::output_file())
+  cmd->add_option("--db", o->db,
+                  "measurement database file (created when absent), or a PostgreSQL server "
+                  "(postgresql://...)")
+      ->check(cli::database_output())
       ->required();
   cmd->add_option("--resume", o->resume, "continue the interrupted or aborted run with this id")
       ->check(cli::whole_in(std::int64_t{1}, std::numeric_limits<std::int64_t>::max()));
@@ -217,6 +245,14 @@ void install_run(CLI::App& root) {
       ->check(cli::real_above(0.0, 1e6))
       ->capture_default_str();
   cmd->add_option("--operator", o->operator_name, "operator name stored with the run");
+  cmd->add_option("--push-to", o->push_to,
+                  "after the run, push it from the --db file to this PostgreSQL server (postgresql://...; "
+                  "overrides the lab config's [lab] push_to)")
+      ->check(CLI::Validator(
+          [](std::string& v) {
+            return tocd::db::is_server_uri(v) ? std::string() : "not a postgresql:// URI: " + v;
+          },
+          "URI"));
   cmd->add_option("--photons", o->photons, "Monte Carlo photons per predicted step (FE + mesh + MC per step)")
       ->check(cli::whole_in(std::uint64_t{1}, cli::kMaxPhotons))
       ->capture_default_str();

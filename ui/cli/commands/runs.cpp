@@ -11,6 +11,7 @@
 #include "output_naming.hpp"
 #include "tocd/core/clock.hpp"
 #include "tocd/core/printable.hpp"
+#include "tocd/db/location.hpp"
 #include "tocd/db/reader.hpp"
 
 namespace {
@@ -37,7 +38,7 @@ void print_runs_json(const std::string& path, const std::vector<tocd::db::RunSum
                     {"predictions", s.predictions},
                     {"events", s.events}});
   }
-  tocd::cli::print_json({{"database", path}, {"runs", list}});
+  tocd::cli::print_json({{"database", tocd::db::display_location(path)}, {"runs", list}});
 }
 
 void list_runs(const RunsOptions& o) {
@@ -49,7 +50,7 @@ void list_runs(const RunsOptions& o) {
     return;
   }
   if (runs.empty()) {
-    std::cout << "no runs in " << path << '\n';
+    std::cout << "no runs in " << tocd::db::display_location(path) << '\n';
     return;
   }
   std::cout << fmt::format("{:>4}  {:<12}  {:<24}  {:>5}  {:>11}  {:>6}  {}\n", "id", "status",
@@ -72,7 +73,8 @@ void list_runs(const RunsOptions& o) {
 void install_runs(CLI::App& root) {
   auto* cmd = root.add_subcommand("runs", "List the runs of a measurement database");
   auto o = std::make_shared<RunsOptions>();
-  cmd->add_option("--db", o->db, "measurement database file")->required();
+  cmd->add_option("--db", o->db, "measurement database file, or a PostgreSQL server (postgresql://...)")
+      ->required();
   cmd->add_flag("--json", o->json, "print the runs as one JSON document");
   cmd->callback([o] { list_runs(*o); });
 }

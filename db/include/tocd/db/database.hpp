@@ -29,7 +29,10 @@ struct ResumePoint {
   EventRecord gap_event;           // the "gap" event recorded in the run
 };
 
-/// One tocdlab measurement database file (SQLite, WAL mode).
+/// One tocdlab measurement database: an SQLite file (WAL mode), or, when the location is a
+/// PostgreSQL connection URI (location.hpp), a server database, with the same contracts
+/// (docs/database.md, "PostgreSQL": the schema is created in an empty server database; the run
+/// lock is a session advisory lock there).
 ///
 /// Opening applies schema migrations and marks runs left `running` by a process that is gone
 /// (crash, kill -9, power loss) as `interrupted`. A run that is recording in another live
@@ -45,7 +48,8 @@ class Database {
   static constexpr int kSchemaVersion = 3;
   static constexpr std::int32_t kApplicationId = 0x544F4344;  // "TOCD" (PRAGMA application_id)
 
-  /// Opens (creating when absent) the database at `path`; see the class comment.
+  /// Opens (creating when absent) the database at `path`, a file or a postgresql:// URI; see
+  /// the class comment. A server that cannot be reached is a DatabaseError naming it.
   static Database open(const std::filesystem::path& path);
   explicit Database(const std::filesystem::path& path);
   ~Database();

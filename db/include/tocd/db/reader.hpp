@@ -56,6 +56,9 @@ struct CompareRow {
 /// Thread-safe (one connection behind a mutex). The file must exist and be a tocdlab
 /// database of the current schema; otherwise DatabaseError (the file is not modified). The
 /// connection runs in SQLite's defensive mode with trusted_schema off.
+///
+/// `db_path` may be a PostgreSQL connection URI (location.hpp): a read-only session on the
+/// server; queries that describe one instant read one REPEATABLE READ snapshot.
 class Reader {
  public:
   explicit Reader(const std::filesystem::path& db_path);

@@ -71,6 +71,10 @@ struct WriterStats {
 ///
 /// Readers (Reader, other processes) never block the writer, and vice versa (WAL). Samples
 /// must name channels created with Database::add_channel before they are enqueued.
+///
+/// On a PostgreSQL server (a Database or path that is a postgresql:// URI) each batch is one
+/// transaction with its samples sent by COPY; a commit is durable when it returns (the
+/// server's synchronous_commit), and a connection lost under a batch is reset before the retry.
 class Writer {
  public:
   /// Opens its own connection to an existing tocdlab database (opened once by Database so

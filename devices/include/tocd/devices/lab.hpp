@@ -42,6 +42,9 @@ struct PowerMeterConfig {
 /// to reach them. Any instrument may be absent.
 struct LabConfig {
   std::string name;  ///< [lab] name, free text
+  /// [lab] push_to: a lab server (postgresql:// URI) that `tocdlab run` pushes each run to
+  /// after it ends; empty = none. The run always records into its local file first.
+  std::string push_to;
   std::optional<TesterConfig> tester;
   std::optional<PowerMeterConfig> power_meter;
   std::optional<VacuumConfig> vacuum;

@@ -1,0 +1,95 @@
+#pragma once
+
+// Where a database contract test records: a fresh SQLite file in a temporary directory, or,
+// in the test binaries built with TOCD_DB_TEST_SERVER (the `*_pg` ones, run by ctest inside
+// `with_pg_server`), a fresh database on that PostgreSQL server. The same test source runs on
+// both backends: `location()` is all a test knows of where its data goes.
+
+#include <atomic>
+#include <cstdlib>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
+#include <unistd.h>
+
+#include "temp_dir.hpp"
+
+#ifdef TOCD_DB_TEST_SERVER
+#include <libpq-fe.h>
+#endif
+
+namespace tocd::db::testing {
+
+class TestDatabase {
+ public:
+  TestDatabase() {
+#ifdef TOCD_DB_TEST_SERVER
+    static std::atomic<int> counter{0};
+    name_ = "tocd_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
+    admin("DROP DATABASE IF EXISTS " + name_ + " WITH (FORCE)");
+    admin("CREATE DATABASE " + name_);
+    location_ = "postgresql:///" + name_;
+#else
+    location_ = (dir_ / "lab.sqlite").string();
+#endif
+  }
+  ~TestDatabase() {
+#ifdef TOCD_DB_TEST_SERVER
+    try {
+      admin("DROP DATABASE IF EXISTS " + name_ + " WITH (FORCE)");
+    } catch (...) {  // the server is gone: the session's cluster goes with it
+    }
+#endif
+  }
+  TestDatabase(const TestDatabase&) = delete;
+  TestDatabase& operator=(const TestDatabase&) = delete;
+
+  /// What `--db` / Database / Reader / Writer take: a file path or a postgresql:// URI.
+  const std::string& location() const noexcept {
+    return location_;
+  }
+  /// A scratch directory for the test's other files (exports, CSVs).
+  const TempDir& dir() const noexcept {
+    return dir_;
+  }
+  static constexpr bool server() noexcept {
+#ifdef TOCD_DB_TEST_SERVER
+    return true;
+#else
+    return false;
+#endif
+  }
+
+#ifdef TOCD_DB_TEST_SERVER
+  /// Runs SQL on the server's maintenance database (PGHOST, PGPORT, PGUSER, PGPASSWORD from
+  /// the environment with_pg_server sets up).
+  static void admin(const std::string& sql) {
+    if (!std::getenv("PGPORT"))
+      throw std::runtime_error(
+          "no PostgreSQL test server: run this binary through tests/db/with_pg_server "
+          "(ctest does)");
+    PGconn* c = PQconnectdb("dbname=postgres");
+    PQsetNoticeProcessor(
+        c, [](void*, const char*) {}, nullptr);  // "does not exist, skipping"
+    std::string error;
+    if (PQstatus(c) != CONNECTION_OK) {
+      error = PQerrorMessage(c);
+    } else {
+      PGresult* r = PQexec(c, sql.c_str());
+      if (PQresultStatus(r) != PGRES_COMMAND_OK && PQresultStatus(r) != PGRES_TUPLES_OK)
+        error = PQerrorMessage(c);
+      PQclear(r);
+    }
+    PQfinish(c);
+    if (!error.empty()) throw std::runtime_error(sql + ": " + error);
+  }
+#endif
+
+ private:
+  TempDir dir_;
+  std::string name_;
+  std::string location_;
+};
+
+}  // namespace tocd::db::testing

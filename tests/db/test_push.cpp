@@ -1,0 +1,420 @@
+// Store-and-forward onto a PostgreSQL server (db push): each run arrives whole and once,
+// however often it is pushed, by how many pushes at once, or when the server dies midway; an
+// interrupted run arrives marked so and its resumed data follows; the documented roles hold.
+// Runs only in the *_pg binary (a server of its own, tests/db/with_pg_server).
+#include <atomic>
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <thread>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "test_database.hpp"
+#include "tocd/core/clock.hpp"
+#include "tocd/db/database.hpp"
+#include "tocd/db/push.hpp"
+#include "tocd/db/reader.hpp"
+#include "tocd/db/writer.hpp"
+
+namespace {
+
+using namespace tocd::db;
+using ::testing::HasSubstr;
+using tocd::db::testing::TempDir;
+using tocd::db::testing::TestDatabase;
+
+// A finished run with `samples` samples on two channels, steps, events and a prediction.
+std::int64_t record_run(Database& db, std::int64_t samples, RunStatus end = RunStatus::completed) {
+  NewRun nr;
+  nr.name = "pushed";
+  nr.protocol_text = "name = \"p\"\n";
+  const RunRecord run = db.create_run(nr);
+  const auto load = db.add_channel({0, run.id, "load", "N", 0, 1000.0});
+  const auto power = db.add_channel({0, run.id, "power", "W", 0, 10.0});
+  {
+    Writer w(db);
+    for (std::int64_t i = 0; i < samples; ++i)
+      w.enqueue(Sample{i % 10 == 0 ? power.id : load.id, run.monotonic_anchor_ns + 1000 * i, 0.001 * i});
+    w.enqueue(EventRecord{0, run.id, run.monotonic_anchor_ns + 5, "step", "step 1", 0, ""});
+  }
+  StepRecord st;
+  st.run_id = run.id;
+  st.index = 0;
+  st.recorded_from_t_ns = run.monotonic_anchor_ns;
+  st.recorded_to_t_ns = run.monotonic_anchor_ns + 1000 * samples;
+  st.measured_transmission = 0.5;
+  st.channels = {{load.id, 2.0, 0.1, 40}, {power.id, 5e-4, 1e-5, 4}};
+  db.add_step(st);
+  PredictionRecord p;
+  p.run_id = run.id;
+  p.config_json = R"({"seed":1})";
+  p.T = 0.4;
+  db.add_prediction(p);
+  if (end != RunStatus::running) db.set_run_status(run.id, end);
+  return run.id;
+}
+
+std::int64_t samples_of(const Reader& r, std::int64_t run_id) {
+  std::int64_t n = 0;
+  for (const auto& ch : r.channels(run_id)) n += r.sample_count(ch.id);
+  return n;
+}
+
+const RunSummary* by_uuid(const std::vector<RunSummary>& runs, const std::string& uuid) {
+  for (const auto& s : runs)
+    if (s.run.uuid == uuid) return &s;
+  return nullptr;
+}
+
+// The server holds each local run once, whole: the same samples, steps, events, predictions.
+void expect_server_mirrors(const std::string& file, const std::string& server) {
+  const Reader local(file), remote(server);
+  const auto there = remote.runs();
+  for (const auto& s : local.runs()) {
+    if (s.live) continue;
+    int copies = 0;
+    for (const auto& t : there) copies += t.run.uuid == s.run.uuid;
+    ASSERT_EQ(copies, 1) << "run " << s.run.uuid;
+    const RunSummary& t = *by_uuid(there, s.run.uuid);
+    EXPECT_EQ(samples_of(remote, t.run.id), samples_of(local, s.run.id));
+    EXPECT_EQ(t.steps, s.steps);
+    EXPECT_EQ(t.events, s.events);
+    EXPECT_EQ(t.predictions, s.predictions);
+    EXPECT_EQ(t.run.status, shown_status(s));
+    EXPECT_EQ(remote.anchors(t.run.id).size(), local.anchors(s.run.id).size());
+    const auto a = local.compare(s.run.id), b = remote.compare(t.run.id);
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].step.measured_transmission, b[i].step.measured_transmission);
+      EXPECT_EQ(a[i].relative_difference, b[i].relative_difference);
+    }
+  }
+}
+
+TEST(DbPush, EachRunArrivesOnceAndASecondPushAddsNothing) {
+  TempDir dir;
+  TestDatabase server;
+  const auto file = (dir / "local.db").string();
+  {
+    Database db(file);
+    record_run(db, 5000);
+    record_run(db, 3000, RunStatus::aborted);
+  }
+  const auto first = push_runs(file, server.location());
+  ASSERT_EQ(first.size(), 2u);
+  for (const auto& r : first) EXPECT_EQ(r.action, PushAction::copied);
+  expect_server_mirrors(file, server.location());
+  const auto second = push_runs(file, server.location());
+  for (const auto& r : second) {
+    EXPECT_EQ(r.action, PushAction::unchanged);
+    EXPECT_EQ(r.server_id, first[static_cast<std::size_t>(&r - second.data())].server_id);
+  }
+  EXPECT_EQ(Reader(server.location()).runs().size(), 2u);
+  expect_server_mirrors(file, server.location());
+}
+
+TEST(DbPush, AnInterruptedRunArrivesInterruptedAndItsResumeFollows) {
+  TempDir dir;
+  TestDatabase server;
+  const auto file = (dir / "local.db").string();
+  std::int64_t run = 0;
+  {
+    Database db(file);
+    run = record_run(db, 2000, RunStatus::running);  // closed while running: a crash
+  }
+  auto pushed = push_runs(file, server.location());
+  ASSERT_EQ(pushed.size(), 1u);
+  EXPECT_EQ(pushed[0].status, "interrupted");
+  const auto server_id = pushed[0].server_id;
+  EXPECT_EQ(Reader(server.location()).run(server_id).status, RunStatus::interrupted);
+  {
+    Database db(file);  // marks it interrupted in the file too
+    const auto resumed = db.resume_run(run);
+    const auto ch = Reader(file).channel(run, "load")->id;
+    {
+      Writer w(db);
+      for (int i = 0; i < 700; ++i) w.enqueue(Sample{ch, resumed.gap_to_t_ns + 1000 * i, 1.0});
+    }
+    db.set_run_status(run, RunStatus::completed);
+  }
+  pushed = push_runs(file, server.location());
+  ASSERT_EQ(pushed.size(), 1u);
+  EXPECT_EQ(pushed[0].action, PushAction::updated);
+  EXPECT_EQ(pushed[0].server_id, server_id);  // the same run on the server, now whole
+  const Reader remote(server.location());
+  EXPECT_EQ(remote.run(server_id).status, RunStatus::completed);
+  EXPECT_EQ(remote.anchors(server_id).size(), 2u);
+  EXPECT_EQ(samples_of(remote, server_id), 2700);
+  expect_server_mirrors(file, server.location());
+}
+
+TEST(DbPush, ARunStillRecordingIsLeftForALaterPush) {
+  TempDir dir;
+  TestDatabase server;
+  const auto file = (dir / "local.db").string();
+  Database db(file);
+  const auto run = record_run(db, 100, RunStatus::running);
+  auto pushed = push_runs(file, server.location());
+  ASSERT_EQ(pushed.size(), 1u);
+  EXPECT_EQ(pushed[0].action, PushAction::skipped);
+  EXPECT_TRUE(Reader(server.location()).runs().empty());
+  db.set_run_status(run, RunStatus::completed);
+  pushed = push_runs(file, server.location());
+  EXPECT_EQ(pushed[0].action, PushAction::copied);
+  expect_server_mirrors(file, server.location());
+}
+
+TEST(DbPush, TwoPushesOfTheSameFileAtOnceStoreEachRunOnce) {
+  TempDir dir;
+  TestDatabase server;
+  const auto file = (dir / "local.db").string();
+  {
+    Database db(file);
+    for (int i = 0; i < 3; ++i) record_run(db, 20000);
+  }
+  std::vector<PushedRun> a, b;
+  std::thread t1([&] { a = push_runs(file, server.location()); });
+  std::thread t2([&] { b = push_runs(file, server.location()); });
+  t1.join();
+  t2.join();
+  ASSERT_EQ(a.size(), 3u);
+  ASSERT_EQ(b.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    // One of the two copied each run; the other found it there.
+    EXPECT_EQ((a[i].action == PushAction::copied) + (b[i].action == PushAction::copied), 1);
+    EXPECT_EQ(a[i].server_id, b[i].server_id);
+  }
+  expect_server_mirrors(file, server.location());
+}
+
+TEST(DbPush, BadTargetsAreRefusedNamingWhatIsWrong) {
+  TempDir dir;
+  const auto file = (dir / "local.db").string();
+  {
+    Database db(file);
+    record_run(db, 10);
+  }
+  const auto before = tocd::db::testing::file_bytes(file);
+  try {
+    push_runs(file, "postgresql://127.0.0.1:1/lab");  // nobody listens on port 1
+    FAIL() << "push to a server that is down succeeded";
+  } catch (const DatabaseError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("cannot connect to PostgreSQL at 'postgresql://127.0.0.1:1/lab'"));
+  }
+  try {
+    push_runs(file, "postgresql://tocd:secret@127.0.0.1:1/lab");
+    FAIL() << "push succeeded";
+  } catch (const DatabaseError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("postgresql://tocd:***@127.0.0.1:1/lab"));
+    EXPECT_THAT(e.what(), ::testing::Not(HasSubstr("secret")));
+  }
+  EXPECT_THROW(push_runs(file, "lab.db"), DatabaseError);
+  // A URI libpq cannot parse, and a user the server does not know: said, naming the server.
+  try {
+    push_runs(file, "postgresql://localhost:notaport/lab");
+    FAIL() << "push to a malformed URI succeeded";
+  } catch (const DatabaseError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("cannot connect to PostgreSQL at 'postgresql://localhost:notaport/lab'"));
+    EXPECT_THAT(e.what(), HasSubstr("port"));
+  }
+  try {
+    push_runs(file, "postgresql://no_such_user@/postgres");
+    FAIL() << "push as an unknown user succeeded";
+  } catch (const DatabaseError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("authentication failed for user \"no_such_user\""));
+  }
+  EXPECT_EQ(tocd::db::testing::file_bytes(file), before);  // the file is only read
+}
+
+TEST(DbPush, AServerDatabaseOfAnotherApplicationIsLeftUntouched) {
+  TempDir dir;
+  TestDatabase server;
+  const auto file = (dir / "local.db").string();
+  {
+    Database db(file);
+    record_run(db, 10);
+  }
+  {
+    // Another application's table in the server database.
+    const std::string name = server.location().substr(std::string("postgresql:///").size());
+    const std::string conninfo = "dbname=" + name;
+    PGconn* c = PQconnectdb(conninfo.c_str());
+    PQclear(PQexec(c, "CREATE TABLE orders(id int)"));
+    PQfinish(c);
+  }
+  try {
+    push_runs(file, server.location());
+    FAIL() << "pushed into another application's database";
+  } catch (const DatabaseError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("not a tocdlab database"));
+  }
+}
+
+// The server's cluster, stopped and started as its administrator would (pg_virtualenv's
+// temporary cluster "regress").
+void server_ctl(const char* action) {
+  const char* version = std::getenv("PGVERSION");
+  ASSERT_NE(version, nullptr) << "PGVERSION: not inside with_pg_server";
+  const std::string cmd = std::string("pg_ctlcluster ") + version + " regress " + action + " >/dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+}
+
+TEST(DbPushFault, ServerKilledMidPushLeavesNoHalfRunAndTheNextPushCompletesIt) {
+  TempDir dir;
+  TestDatabase server;
+  const auto file = (dir / "local.db").string();
+  {
+    Database db(file);
+    for (int i = 0; i < 4; ++i) record_run(db, 300000);
+  }
+  std::atomic<bool> done{false};
+  std::string error;
+  std::thread pusher([&] {
+    try {
+      push_runs(file, server.location());
+    } catch (const DatabaseError& e) {
+      error = e.what();
+    }
+    done = true;
+  });
+  // Kill the server (immediate shutdown: no clean close for the push's session) once the
+  // first run is there, while the next one is being copied.
+  for (int i = 0; i < 600 && !done; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    try {
+      if (!Reader(server.location()).runs().empty()) break;
+    } catch (const DatabaseError&) {  // schema not there yet
+    }
+  }
+  server_ctl("stop -m immediate");
+  pusher.join();
+  ASSERT_FALSE(error.empty()) << "the push finished before the server was stopped";
+  EXPECT_THAT(error, HasSubstr("was not pushed, nothing of it is on the server"));
+  server_ctl("start");
+  // What the server kept: whole runs only.
+  {
+    const Reader local(file), remote(server.location());
+    const auto there = remote.runs(), here = local.runs();
+    EXPECT_LT(there.size(), 4u);
+    for (const auto& t : there) {
+      const auto* s = by_uuid(here, t.run.uuid);
+      ASSERT_NE(s, nullptr);
+      EXPECT_EQ(samples_of(remote, t.run.id), samples_of(local, s->run.id));
+    }
+  }
+  const auto again = push_runs(file, server.location());
+  int copied = 0;
+  for (const auto& r : again) copied += r.action == PushAction::copied;
+  EXPECT_GE(copied, 1);
+  expect_server_mirrors(file, server.location());
+}
+
+TEST(DbPushFault, ARigRecordsLocallyWhileTheServerIsDownAndPushesLater) {
+  TempDir dir;
+  TestDatabase server;
+  const auto file = (dir / "local.db").string();
+  server_ctl("stop -m fast");
+  {
+    Database db(file);
+    record_run(db, 1000);
+  }
+  EXPECT_THROW(push_runs(file, server.location()), DatabaseError);
+  server_ctl("start");
+  const auto pushed = push_runs(file, server.location());
+  ASSERT_EQ(pushed.size(), 1u);
+  EXPECT_EQ(pushed[0].action, PushAction::copied);
+  expect_server_mirrors(file, server.location());
+}
+
+// docs/database.md's roles block, as written.
+std::string roles_sql() {
+  std::ifstream in(TOCD_DATABASE_MD);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::smatch m;
+  const std::string text = ss.str();
+  if (!std::regex_search(text, m, std::regex("<!-- roles-sql -->\\s*```sql\\n([\\s\\S]*?)```"))) return "";
+  return m[1];
+}
+
+TEST(DbRoles, TheRigWritesTheAnalystOnlyReads) {
+  TempDir dir;
+  TestDatabase server;
+  const auto file = (dir / "local.db").string();
+  {
+    Database db(file);
+    record_run(db, 1000);
+  }
+  push_runs(file, server.location());  // the owner creates the schema
+  const std::string sql = roles_sql();
+  ASSERT_FALSE(sql.empty()) << "no ```sql block after <!-- roles-sql --> in " << TOCD_DATABASE_MD;
+  const std::string name = server.location().substr(std::string("postgresql:///").size());
+  const std::string pw = std::getenv("PGPASSWORD");
+  TestDatabase::admin("DROP ROLE IF EXISTS tocd_rig; DROP ROLE IF EXISTS tocd_analyst");
+  {
+    const std::string conninfo = "dbname=" + name;
+    PGconn* c = PQconnectdb(conninfo.c_str());
+    PGresult* r = PQexec(c, (sql + "; ALTER ROLE tocd_rig PASSWORD '" + pw +
+                             "'; ALTER ROLE tocd_analyst PASSWORD '" + pw + "'")
+                                .c_str());
+    ASSERT_EQ(PQresultStatus(r), PGRES_COMMAND_OK) << PQerrorMessage(c);
+    PQclear(r);
+    PQfinish(c);
+  }
+  const std::string rig = "postgresql://tocd_rig@/" + name, analyst = "postgresql://tocd_analyst@/" + name;
+  // The rig records into the server directly and pushes.
+  {
+    Database db(rig);
+    record_run(db, 500);
+  }
+  {
+    Database db(file);
+    record_run(db, 700);
+  }
+  push_runs(file, rig);
+  // The analyst reads everything...
+  const Reader reader(analyst);
+  const auto runs = reader.runs();
+  ASSERT_EQ(runs.size(), 3u);
+  EXPECT_EQ(samples_of(reader, runs[0].run.id), 1000);
+  // ...and can change nothing.
+  try {
+    Database db(analyst);
+    db.set_run_status(runs[0].run.id, RunStatus::aborted);
+    FAIL() << "the analyst changed a run";
+  } catch (const DatabaseError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("permission denied"));
+  }
+  {
+    Database db(file);
+    record_run(db, 10);
+  }
+  EXPECT_THROW(push_runs(file, analyst), DatabaseError);
+  EXPECT_EQ(Reader(server.location()).runs().size(), 3u);
+  EXPECT_EQ(Reader(server.location()).run(runs[0].run.id).status, RunStatus::completed);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(DbPandasServer, TheDocumentedReadSqlExampleReadsThePushedRun) {
+  TempDir dir;
+  TestDatabase server;
+  const auto file = (dir / "local.db").string();
+  {
+    Database db(file);
+    record_run(db, 4000);
+  }
+  const auto pushed = push_runs(file, server.location());
+  const std::string cmd = std::string(TOCD_SYSTEM_PYTHON) + " " + TOCD_PANDAS_SERVER_CHECK + " " +
+                          TOCD_DATABASE_MD + " '" + server.location() + "' " +
+                          std::to_string(pushed[0].server_id) + " 4000 1";
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+}
+
+}  // namespace
