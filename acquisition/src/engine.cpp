@@ -54,7 +54,7 @@ Engine::Engine(db::Database& db, InstrumentSet instruments, EngineOptions option
 }
 
 Engine::~Engine() {
-  if (Run* run = impl_->started()) {
+  if (Run* run = impl_->started(); run && run->running()) {
     if (!is_terminal(state())) abort("engine destroyed while the run was going");
     // Not wait(): it hands a pause back, and abort() has already ended any pause.
     impl_->control.wait_finished();
@@ -76,12 +76,14 @@ void launch(Engine::Impl& m, RunSetup setup, const ScaledClock& clock,
   try {
     m.run = std::make_unique<Run>(m.parts(), std::move(setup), clock, channels);
     if (gap) m.run->replay(*gap);
+    // Before its threads start: an observer called from them may ask for the run.
+    m.started_run.store(m.run.get());
     m.run->start();
   } catch (...) {
+    m.started_run.store(nullptr);
     m.db.set_run_status(run_id, db::RunStatus::interrupted);
     throw;
   }
-  m.started_run.store(m.run.get());
 }
 
 }  // namespace

@@ -78,6 +78,7 @@ void Run::start() {
     parts_.control.mark_finished();
   });
   sequencer_.start();
+  running_ = true;
 }
 
 Progress Run::progress() const {

@@ -6,6 +6,7 @@
 // Made by Engine::start or Engine::resume once the run exists in the database; the run's
 // setup and clock are fixed from then on.
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -50,6 +51,8 @@ class Run {
   }
   /// Starts the writer and every thread of the run.
   void start();
+  /// Whether start() got as far as the sequencer's thread (which then ends the run).
+  bool running() const noexcept { return running_; }
   /// Waits for the sequencer's thread (after the run has finished).
   void join() { sequencer_.join(); }
 
@@ -73,6 +76,7 @@ class Run {
   // Before the sequencer, which hands it the recorded steps; its worker is joined last.
   PredictionQueue predictions_;
   Sequencer sequencer_;
+  std::atomic<bool> running_{false};
 };
 
 }  // namespace tocd::acquisition
