@@ -2,7 +2,8 @@
 
 // What differs between pin-compression and vacuum steps, for the sequencer's phases: how a
 // step's target is approached, which reading shows the sample settled, what the step row
-// records as its target, and what becomes of a recorded step.
+// records as its target, and what becomes of a recorded step. Each strategy holds its
+// instrument channel and the small StepSequencer interface of the sequencer that runs it.
 
 #include <memory>
 #include <optional>
