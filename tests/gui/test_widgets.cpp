@@ -401,6 +401,13 @@ void WidgetsTest::lab_view_lays_out_the_drivers_capability_tables() {
            QStringLiteral("displacement: 0.5 mm\nload: 3 N"));
   QCOMPARE(view.panel(InstrumentKind::power_meter)->value_text(), QStringLiteral("power: 0.001 W"));
   QCOMPARE(view.panel(InstrumentKind::vacuum)->value_text(), QStringLiteral("pressure: 80 kPa"));
+  InstrumentReading idle;
+  idle.kind = InstrumentKind::vacuum;
+  idle.value = 79.5;
+  idle.value2 = 80.0;
+  view.show_reading(idle);
+  QCOMPARE(view.panel(InstrumentKind::vacuum)->value_text(),
+           QStringLiteral("pressure: 79.5 kPa\nsetpoint: 80 kPa"));
 }
 
 QTEST_MAIN(WidgetsTest)

@@ -25,6 +25,13 @@ QString panel_title(InstrumentKind kind) {
   return title;
 }
 
+QString unit_of(InstrumentKind kind, std::string_view name) {
+  for (const auto& c : capabilities_of(kind).channels) {
+    if (c.name == name) return QString::fromUtf8(c.unit.data(), static_cast<qsizetype>(c.unit.size()));
+  }
+  return {};
+}
+
 std::optional<ChannelOwner> channel_owner(std::string_view name) {
   for (const InstrumentKind kind : kInstrumentKinds) {
     for (const auto& c : capabilities_of(kind).channels) {

@@ -21,6 +21,9 @@ const devices::InstrumentCapabilities& capabilities_of(InstrumentKind kind);
 /// "Mechanical tester": the driver's title, capitalised, for a panel.
 QString panel_title(InstrumentKind kind);
 
+/// The unit of channel `name` of `kind`'s driver ("" when it describes no such channel).
+QString unit_of(InstrumentKind kind, std::string_view name);
+
 /// The instrument kind whose driver reads the run channel `name`, and that channel.
 struct ChannelOwner {
   InstrumentKind kind;

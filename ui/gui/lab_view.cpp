@@ -52,17 +52,19 @@ void LabView::show_reading(const InstrumentReading& r) {
   if (p->connection() != InstrumentPanel::Connection::connected) {
     p->set_connection(InstrumentPanel::Connection::connected);
   }
+  // The idle poller's values are the drivers' raw readings (the tester's position is not yet
+  // a displacement, the setpoint no channel); their units are those of the channels they feed.
   switch (r.kind) {
     case InstrumentKind::tester:
-      p->set_value(tr("position"), r.value, QStringLiteral("mm"));
-      p->set_value(tr("load"), r.value2, QStringLiteral("N"));
+      p->set_value(tr("position"), r.value, unit_of(r.kind, "displacement"));
+      p->set_value(tr("load"), r.value2, unit_of(r.kind, "load"));
       break;
     case InstrumentKind::power_meter:
-      p->set_value(tr("power"), r.value, QStringLiteral("W"));
+      p->set_value(tr("power"), r.value, unit_of(r.kind, "power"));
       break;
     case InstrumentKind::vacuum:
-      p->set_value(tr("pressure"), r.value, QStringLiteral("kPa"));
-      p->set_value(tr("setpoint"), r.value2, QStringLiteral("kPa"));
+      p->set_value(tr("pressure"), r.value, unit_of(r.kind, "pressure"));
+      p->set_value(tr("setpoint"), r.value2, unit_of(r.kind, "pressure"));
       break;
   }
   p->set_fault(r.fault, r.fault_text);
