@@ -62,35 +62,31 @@ Engine::~Engine() {
   }
 }
 
-namespace {
-
-void refuse_second_run(const Engine::Impl& m) {
-  if (m.control.state() != EngineState::idle || m.run)
+void Engine::Impl::refuse_second_run() const {
+  if (control.state() != EngineState::idle || run)
     throw EngineError("this engine already ran; make a new one");
 }
 
-/// Makes the run's parts and starts its threads; a run that cannot start is stored interrupted.
-void launch(Engine::Impl& m, RunSetup setup, const ScaledClock& clock,
-            const std::vector<std::int64_t>& channels, const db::EventRecord* gap) {
+void Engine::Impl::launch(RunSetup setup, const ScaledClock& clock, const std::vector<std::int64_t>& channels,
+                          const db::EventRecord* gap) {
   const std::int64_t run_id = setup.run_id;
   try {
-    m.run = std::make_unique<Run>(m.parts(), std::move(setup), clock, channels);
-    if (gap) m.run->replay(*gap);
+    run = std::make_unique<Run>(RunParts{db, options, observer, predictor, control, instruments},
+                                std::move(setup), clock, channels);
+    if (gap) run->replay(*gap);
     // Before its threads start: an observer called from them may ask for the run.
-    m.started_run.store(m.run.get());
-    m.run->start();
+    started_run.store(run.get());
+    run->start();
   } catch (...) {
-    m.started_run.store(nullptr);
-    m.db.set_run_status(run_id, db::RunStatus::interrupted);
+    started_run.store(nullptr);
+    db.set_run_status(run_id, db::RunStatus::interrupted);
     throw;
   }
 }
 
-}  // namespace
-
 std::int64_t Engine::start(const Protocol& protocol) {
   auto& m = *impl_;
-  refuse_second_run(m);
+  m.refuse_second_run();
   check_instruments(protocol, m.instruments);
   RunSetup setup;
   setup.protocol = protocol;
@@ -122,13 +118,13 @@ std::int64_t Engine::start(const Protocol& protocol) {
     m.db.set_run_status(run.id, db::RunStatus::interrupted);
     throw;
   }
-  launch(m, std::move(setup), clock, channels, nullptr);
+  m.launch(std::move(setup), clock, channels, nullptr);
   return run.id;
 }
 
 std::int64_t Engine::resume(std::int64_t run_id) {
   auto& m = *impl_;
-  refuse_second_run(m);
+  m.refuse_second_run();
   const db::RunRecord before = m.db.run(run_id);
   if (before.status != db::RunStatus::interrupted && before.status != db::RunStatus::aborted) {
     throw EngineError(fmt::format("run {} is {}: only an interrupted or aborted run can be resumed", run_id,
@@ -167,7 +163,7 @@ std::int64_t Engine::resume(std::int64_t run_id) {
     m.db.set_run_status(run_id, db::RunStatus::interrupted);
     throw;
   }
-  launch(m, std::move(setup), clock, channels, &rp.gap_event);
+  m.launch(std::move(setup), clock, channels, &rp.gap_event);
   return run_id;
 }
 

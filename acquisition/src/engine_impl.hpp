@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <memory>
+#include <vector>
 
 #include "instrument_channels.hpp"
 #include "run.hpp"
@@ -21,7 +22,12 @@ struct Engine::Impl {
        EngineObserver* obs)
       : db(d), options(std::move(o)), predictor(std::move(p)), observer(obs), instruments(std::move(set)) {}
 
-  RunParts parts() { return {db, options, observer, predictor, control, instruments}; }
+  /// Throws EngineError when this engine already has (or had) a run.
+  void refuse_second_run() const;
+  /// Makes the run's parts and starts its threads; a run that cannot start is stored
+  /// interrupted. `gap`: a resumed run's gap event, for the observer.
+  void launch(RunSetup setup, const ScaledClock& clock, const std::vector<std::int64_t>& channels,
+              const db::EventRecord* gap);
   /// The run once its threads may be running (any thread reads it); null before.
   Run* started() const noexcept { return started_run.load(); }
 
