@@ -4,7 +4,6 @@
 
 #include <fmt/format.h>
 
-#include "engine_impl.hpp"
 #include "tocd/core/clock.hpp"
 
 namespace tocd::acquisition {
@@ -48,112 +47,112 @@ class Pacer {
 /// trip when they last longer than the tolerance.
 class FaultTracker {
  public:
-  FaultTracker(Engine::Impl& m, std::string instrument, bool used)
-      : m_(m), instrument_(std::move(instrument)), used_(used) {}
+  FaultTracker(PollerContext& ctx, InstrumentChannel& instrument) : ctx_(ctx), instrument_(instrument) {}
 
   /// Returns false when the instrument has been failing for too long (the run was tripped,
-  /// or for an instrument the protocol does not use, its polling ends); `lost` (optional)
-  /// runs before the trip, so whoever handles the trip knows.
-  bool failed(const std::exception& e, const std::function<void()>& lost) {
-    const std::int64_t now = m_.clock.now_ns();
-    if (used_) ++m_.instrument_faults;
+  /// or for an instrument the protocol does not use, its polling ends); the instrument hears
+  /// that it is lost before the trip, so whoever handles the trip knows.
+  bool failed(const std::exception& e) {
+    const std::int64_t now = ctx_.clock.now_ns();
+    const bool used = instrument_.used();
+    ctx_.faults.count(used);
     if (count_++ == 0) {
       since_ = now;
-      m_.emit_event("fault",
-                    fmt::format("{}: {} (the driver's retries did not help){}", instrument_, e.what(),
-                                used_ ? "" : "; not used by this protocol, no recording is affected"),
-                    current_step());
+      ctx_.events.emit(
+          "fault", fmt::format("{}: {} (the driver's retries did not help){}", instrument_.title(), e.what(),
+                               used ? "" : "; not used by this protocol, no recording is affected"));
     }
-    if (static_cast<double>(now - since_) * 1e-9 > m_.opt.fault_tolerance_s) {
-      if (lost) lost();
+    if (static_cast<double>(now - since_) * 1e-9 > ctx_.faults.tolerance_s()) {
+      instrument_.lost();
       const std::string why =
-          fmt::format("{} lost: failing for {:.1f} s ({} failed reads), last error: {}", instrument_,
+          fmt::format("{} lost: failing for {:.1f} s ({} failed reads), last error: {}", instrument_.title(),
                       static_cast<double>(now - since_) * 1e-9, count_, e.what());
-      if (used_)
-        m_.trip(why);
+      if (used)
+        ctx_.faults.trip(why);
       else
-        m_.emit_event("fault", why + "; not used by this protocol: no longer polled", current_step());
+        ctx_.events.emit("fault", why + "; not used by this protocol: no longer polled");
       return false;
     }
     return true;
   }
   void succeeded() {
     if (count_ == 0) return;
-    m_.emit_event("retry", fmt::format("{}: recovered after {} failed reads", instrument_, count_),
-                  current_step());
+    ctx_.events.emit("retry",
+                     fmt::format("{}: recovered after {} failed reads", instrument_.title(), count_));
     count_ = 0;
   }
 
  private:
-  int current_step() { return m_.current_step; }
-  Engine::Impl& m_;
-  std::string instrument_;
-  bool used_;
+  PollerContext& ctx_;
+  InstrumentChannel& instrument_;
   std::int64_t count_ = 0;
   std::int64_t since_ = 0;
 };
 
 /// Runs the queued commands; a command that throws is an event and a fault, not a crash, and
 /// its outcome waits for the sequencer in the queue.
-std::uint64_t drain(Engine::Impl& m, CommandQueue& queue, const char* instrument) {
-  return queue.drain(
-      [&](const std::string& what, const std::string& error) { m.command_failed(instrument, what, error); });
+std::uint64_t drain(PollerContext& ctx, CommandQueue& queue, const std::string& instrument) {
+  return queue.drain([&](const std::string& what, const std::string& error) {
+    ctx.faults.command_failed(instrument, what, error);
+  });
 }
 
 /// A poller that fell far behind has skipped readings: that is a fault of the instrument (a
 /// stalled driver), and a recording window it falls into is not a measurement.
-void overran(Engine::Impl& m, const char* instrument, bool used) {
-  ++m.overruns;
-  if (used) ++m.instrument_faults;
-  m.emit_event("fault",
-               fmt::format("{}: readings fell too far behind (a stalled driver); the poller skipped ahead{}",
-                           instrument, used ? "" : " (not used by this protocol, no recording is affected)"),
-               m.current_step);
+void overran(PollerContext& ctx, const InstrumentChannel& instrument) {
+  const bool used = instrument.used();
+  ctx.faults.overran();
+  ctx.faults.count(used);
+  ctx.events.emit(
+      "fault",
+      fmt::format("{}: readings fell too far behind (a stalled driver); the poller skipped ahead{}",
+                  instrument.title(), used ? "" : " (not used by this protocol, no recording is affected)"));
 }
 
 /// Hands live samples to the observer at most every live_interval_s (real time).
 class LiveBatch {
  public:
-  explicit LiveBatch(Engine::Impl& m) : m_(m), last_(monotonic_ns()) {}
+  explicit LiveBatch(PollerContext& ctx) : ctx_(ctx), last_(monotonic_ns()) {}
   std::vector<LiveSample>& buffer() { return buf_; }
   void maybe_flush(bool force = false) {
-    if (!m_.observer) {
+    if (!ctx_.events.has_observer()) {
       buf_.clear();
       return;
     }
     const std::int64_t now = monotonic_ns();
-    if (!force && static_cast<double>(now - last_) * 1e-9 < m_.opt.live_interval_s) return;
-    if (!buf_.empty()) m_.notify([&](EngineObserver& o) { o.on_samples(buf_); });
+    if (!force && static_cast<double>(now - last_) * 1e-9 < ctx_.live_interval_s) return;
+    if (!buf_.empty()) ctx_.events.notify([&](EngineObserver& o) { o.on_samples(buf_); });
     buf_.clear();
     last_ = now;
   }
 
  private:
-  Engine::Impl& m_;
+  PollerContext& ctx_;
   std::vector<LiveSample> buf_;
   std::int64_t last_;
 };
 
 }  // namespace
 
-void run_instrument_poller(Engine::Impl& m, const InstrumentPollerSpec& spec) {
-  Pacer pacer(m.clock, m.stop_pollers, spec.rate_Hz);
-  FaultTracker faults(m, spec.instrument, spec.used);
-  LiveBatch live(m);
-  const char* name = spec.instrument.c_str();
-  while (!m.stop_pollers.requested()) {
-    const std::uint64_t commands_run = spec.commands ? drain(m, *spec.commands, name) : 0;
+void run_instrument_poller(PollerContext& ctx, InstrumentChannel& instrument) {
+  Pacer pacer(ctx.clock, ctx.stop, instrument.rate_Hz());
+  FaultTracker faults(ctx, instrument);
+  LiveBatch live(ctx);
+  const std::string name = instrument.title();
+  CommandQueue* commands = instrument.commands();
+  while (!ctx.stop.requested()) {
+    const std::uint64_t commands_run = commands ? drain(ctx, *commands, name) : 0;
     try {
-      spec.read(commands_run, live.buffer());
+      instrument.read(ctx, commands_run, live.buffer());
       faults.succeeded();
     } catch (const std::exception& e) {
-      if (!faults.failed(e, spec.lost)) break;
+      if (!faults.failed(e)) break;
     }
     live.maybe_flush();
-    if (pacer.wait()) overran(m, name, spec.used);
+    if (pacer.wait()) overran(ctx, instrument);
   }
   // Commands queued while the loop ended (a last stop, pump off) still reach the driver.
-  if (spec.commands) drain(m, *spec.commands, name);
+  if (commands) drain(ctx, *commands, name);
   live.maybe_flush(true);
 }
 

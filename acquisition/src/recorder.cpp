@@ -2,6 +2,13 @@
 
 namespace tocd::acquisition {
 
+int Recorder::add_channel(std::int64_t id) {
+  channel_.push_back(id);
+  std::lock_guard lock(window_mu_);
+  window_.resize(channel_.size());
+  return static_cast<int>(channel_.size()) - 1;
+}
+
 void Recorder::start(db::Database& db, db::WriterOptions options) {
   writer_ = std::make_unique<db::Writer>(db, std::move(options));
 }
@@ -11,15 +18,13 @@ void Recorder::stop() {
 }
 
 void Recorder::add(int slot, std::int64_t t_ns, double value) {
-  if (channel_[slot] != 0) {
-    if (writer_->enqueue(db::Sample{channel_[slot], t_ns, value})) {
-      ++enqueued_;
-    } else {
-      ++dropped_;
-    }
+  if (writer_->enqueue(db::Sample{channel(slot), t_ns, value})) {
+    ++enqueued_;
+  } else {
+    ++dropped_;
   }
   std::lock_guard lock(window_mu_);
-  if (window_open_) window_[slot].add(value);
+  if (window_open_) window_[static_cast<std::size_t>(slot)].add(value);
 }
 
 bool Recorder::enqueue_event(const db::EventRecord& event) {
@@ -32,7 +37,7 @@ void Recorder::open_window() {
   window_open_ = true;
 }
 
-std::array<RunningStats, kSlots> Recorder::close_window() {
+std::vector<RunningStats> Recorder::close_window() {
   std::lock_guard lock(window_mu_);
   window_open_ = false;
   return window_;

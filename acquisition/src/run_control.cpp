@@ -24,6 +24,11 @@ RunControl::Position RunControl::position() const {
   return {state_, step_};
 }
 
+int RunControl::step() const {
+  std::lock_guard lock(mu_);
+  return step_;
+}
+
 void RunControl::set_error(const std::string& why) {
   std::lock_guard lock(mu_);
   error_ = why;

@@ -1,7 +1,8 @@
 #pragma once
 
-// The run's control state: where the run is (EngineState), what has been asked of it (pause,
-// resume, abort, stop at once), whether an interlock tripped it and whether it has finished.
+// The run's control state: where the run is (EngineState and the step it is about: the one
+// place the current step is kept), what has been asked of it (pause, resume, abort, stop at
+// once), whether an interlock tripped it and whether it has finished.
 // One mutex guards all of it and every request wakes the waiters at once. The engine's public
 // calls (operator requests, wait), the pollers (trips, fault pauses) and the sequencer (its
 // waits and state changes) reach it only through these members.
@@ -33,6 +34,8 @@ class RunControl {
     int step = 0;
   };
   Position position() const;
+  /// The step under way (0-based): what events of any thread are about.
+  int step() const;
   /// Why the run ended interrupted or failed.
   void set_error(const std::string& why);
   std::string error() const;

@@ -2,20 +2,25 @@
 
 // What differs between pin-compression and vacuum steps, for the sequencer's phases: how a
 // step's target is approached, which reading shows the sample settled, what the step row
-// records as its target, and what becomes of a recorded step.
+// records as its target, and what becomes of a recorded step. Each strategy holds its
+// instrument channel and the small StepSequencer interface of the sequencer that runs it.
 
 #include <memory>
 #include <optional>
 #include <string>
 
+#include "prediction_queue.hpp"
 #include "rate_window.hpp"
+#include "run_setup.hpp"
+#include "step_sequencer.hpp"
+#include "tester_channel.hpp"
 #include "tocd/acquisition/engine.hpp"
 #include "tocd/acquisition/protocol.hpp"
 #include "tocd/db/records.hpp"
 
 namespace tocd::acquisition {
 
-enum class Interrupt;
+class VacuumChannel;
 
 class StepStrategy {
  public:
@@ -35,7 +40,13 @@ class StepStrategy {
   virtual void recorded(const StepResult& result) = 0;
 };
 
-std::unique_ptr<StepStrategy> make_pin_steps(Engine::Impl& engine);
-std::unique_ptr<StepStrategy> make_vacuum_steps(Engine::Impl& engine);
+/// Pin steps: each recorded step goes to `predictions`.
+std::unique_ptr<StepStrategy> make_pin_steps(TesterChannel& tester, StepSequencer& sequencer,
+                                             const RunSetup& setup, double move_timeout_margin_s,
+                                             PredictionQueue& predictions);
+/// Vacuum steps: the setpoint is reached within `reached_kPa`, waited for at most
+/// `max_wait_s` (simulated).
+std::unique_ptr<StepStrategy> make_vacuum_steps(VacuumChannel& vacuum, StepSequencer& sequencer,
+                                                double max_wait_s, double reached_kPa);
 
 }  // namespace tocd::acquisition

@@ -25,6 +25,8 @@ class ModbusRtuVacuum final : public VacuumController {
     link_.open();
   }
 
+  const InstrumentCapabilities& describe() const override { return m::capabilities; }
+
   Identity identity() override {
     std::array<std::uint16_t, 1 + tester_map::identity_regs> regs{};
     link_.read_input(m::in_map_version, static_cast<int>(regs.size()), regs.data(), "map version, identity");

@@ -26,6 +26,8 @@ class ModbusTcpTester final : public MechanicalTester {
     link_.open();
   }
 
+  const InstrumentCapabilities& describe() const override { return m::capabilities; }
+
   Identity identity() override {
     std::array<std::uint16_t, 1 + m::identity_regs> regs{};
     link_.read_input(m::in_map_version, static_cast<int>(regs.size()), regs.data(), "map version, identity");

@@ -16,6 +16,7 @@
 #include "hold_course_chart.hpp"
 #include "instrument_panel.hpp"
 #include "interlock_indicator.hpp"
+#include "lab_view.hpp"
 #include "live_chart.hpp"
 
 using namespace tocd::gui;
@@ -35,6 +36,7 @@ class WidgetsTest : public QObject {
   void colour_map_orientation_and_no_data();
   void event_log_is_bounded();
   void instrument_panel_shows_state();
+  void lab_view_lays_out_the_drivers_capability_tables();
   void interlock_indicator_states();
   void settings_round_trip();
 };
@@ -383,6 +385,32 @@ void WidgetsTest::settings_round_trip() {
   // Garbage in the file falls back to defaults.
   s.raw().setValue("simulation/photons", "lots");
   QCOMPARE(s.photons(), qulonglong{100000});
+}
+
+// The panels' titles, and where a run's live reading goes with which unit, come from the
+// drivers' capability tables: a channel lands on the panel of the driver that describes it.
+void WidgetsTest::lab_view_lays_out_the_drivers_capability_tables() {
+  LabView view;
+  QCOMPARE(view.panel(InstrumentKind::tester)->title(), QStringLiteral("Mechanical tester"));
+  QCOMPARE(view.panel(InstrumentKind::power_meter)->title(), QStringLiteral("Power meter"));
+  QCOMPARE(view.panel(InstrumentKind::vacuum)->title(), QStringLiteral("Vacuum controller"));
+  view.show_live({{"load", 0.1, 2.0},
+                  {"power", 0.1, 1.0e-3},
+                  {"displacement", 0.2, 0.5},
+                  {"load", 0.2, 3.0},
+                  {"pressure", 0.2, 80.0},
+                  {"temperature", 0.2, 21.0}});
+  QCOMPARE(view.panel(InstrumentKind::tester)->value_text(),
+           QStringLiteral("displacement: 0.5 mm\nload: 3 N"));
+  QCOMPARE(view.panel(InstrumentKind::power_meter)->value_text(), QStringLiteral("power: 0.001 W"));
+  QCOMPARE(view.panel(InstrumentKind::vacuum)->value_text(), QStringLiteral("pressure: 80 kPa"));
+  InstrumentReading idle;
+  idle.kind = InstrumentKind::vacuum;
+  idle.value = 79.5;
+  idle.value2 = 80.0;
+  view.show_reading(idle);
+  QCOMPARE(view.panel(InstrumentKind::vacuum)->value_text(),
+           QStringLiteral("pressure: 79.5 kPa\nsetpoint: 80 kPa"));
 }
 
 QTEST_MAIN(WidgetsTest)

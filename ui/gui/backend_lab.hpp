@@ -9,6 +9,7 @@
 #include <optional>
 #include <thread>
 
+#include "instrument_kinds.hpp"
 #include "tocd/acquisition/engine.hpp"
 #include "tocd/acquisition/lab_session.hpp"
 #include "tocd/devices/lab.hpp"
@@ -17,9 +18,6 @@
 namespace tocd::gui {
 
 class TaskRunner;
-
-/// The instrument kinds a lab may have, in panel order.
-enum class InstrumentKind { tester, power_meter, vacuum };
 
 /// One reading for an instrument panel.
 struct InstrumentReading {

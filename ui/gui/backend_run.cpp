@@ -6,18 +6,6 @@
 
 namespace tocd::gui {
 
-namespace {
-
-LiveReading::Channel channel_of(std::string_view name) {
-  if (name == "displacement") return LiveReading::Channel::displacement;
-  if (name == "load") return LiveReading::Channel::load;
-  if (name == "power") return LiveReading::Channel::power;
-  if (name == "pressure") return LiveReading::Channel::pressure;
-  return LiveReading::Channel::other;
-}
-
-}  // namespace
-
 RunBackend::RunBackend(QObject* parent)
     : QObject(parent), tasks_(new TaskRunner(this)), waiter_(new TaskRunner(this)) {
   connect(&drain_timer_, &QTimer::timeout, this, &RunBackend::drain_samples);
@@ -127,7 +115,7 @@ void RunBackend::on_samples(std::span<const acquisition::LiveSample> samples) {
   if (t0_ns_ == 0 && !samples.empty()) t0_ns_ = samples.front().t_ns;
   const std::int64_t t0 = t0_ns_;
   for (const auto& s : samples) {
-    samples_.push_back({channel_of(s.channel), static_cast<double>(s.t_ns - t0) * 1e-9, s.value});
+    samples_.push_back({s.channel, static_cast<double>(s.t_ns - t0) * 1e-9, s.value});
   }
 }
 

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <memory>
 #include <mutex>
+#include <string_view>
 #include <vector>
 
 #include "tocd/acquisition/engine.hpp"
@@ -18,8 +19,7 @@ class TaskRunner;
 
 /// A live reading for the charts (seconds since the run started).
 struct LiveReading {
-  enum class Channel { displacement, load, power, pressure, other };
-  Channel channel = Channel::other;
+  std::string_view channel;  ///< the run's channel, as its driver's capability table names it
   double t_s = 0;
   double value = 0;
 };

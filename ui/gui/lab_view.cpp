@@ -2,6 +2,7 @@
 
 #include <QLabel>
 #include <QVBoxLayout>
+#include <map>
 
 #include "instrument_panel.hpp"
 
@@ -14,10 +15,10 @@ LabView::LabView(QWidget* parent) : QWidget(parent), lab_label_(new QLabel(tr("N
   bold.setBold(true);
   lab_label_->setFont(bold);
   col->addWidget(lab_label_);
-  const QString names[] = {tr("Mechanical tester"), tr("Power meter"), tr("Vacuum controller")};
-  for (std::size_t k = 0; k < panels_.size(); ++k) {
-    panels_[k] = new InstrumentPanel(names[k], this);
-    col->addWidget(panels_[k]);
+  for (const InstrumentKind kind : kInstrumentKinds) {
+    auto*& p = panels_[static_cast<std::size_t>(kind)];
+    p = new InstrumentPanel(panel_title(kind), this);
+    col->addWidget(p);
   }
 }
 
@@ -51,17 +52,19 @@ void LabView::show_reading(const InstrumentReading& r) {
   if (p->connection() != InstrumentPanel::Connection::connected) {
     p->set_connection(InstrumentPanel::Connection::connected);
   }
+  // The idle poller's values are the drivers' raw readings (the tester's position is not yet
+  // a displacement, the setpoint no channel); their units are those of the channels they feed.
   switch (r.kind) {
     case InstrumentKind::tester:
-      p->set_value(tr("position"), r.value, QStringLiteral("mm"));
-      p->set_value(tr("load"), r.value2, QStringLiteral("N"));
+      p->set_value(tr("position"), r.value, unit_of(r.kind, "displacement"));
+      p->set_value(tr("load"), r.value2, unit_of(r.kind, "load"));
       break;
     case InstrumentKind::power_meter:
-      p->set_value(tr("power"), r.value, QStringLiteral("W"));
+      p->set_value(tr("power"), r.value, unit_of(r.kind, "power"));
       break;
     case InstrumentKind::vacuum:
-      p->set_value(tr("pressure"), r.value, QStringLiteral("kPa"));
-      p->set_value(tr("setpoint"), r.value2, QStringLiteral("kPa"));
+      p->set_value(tr("pressure"), r.value, unit_of(r.kind, "pressure"));
+      p->set_value(tr("setpoint"), r.value2, unit_of(r.kind, "pressure"));
       break;
   }
   p->set_fault(r.fault, r.fault_text);
@@ -73,27 +76,18 @@ void LabView::show_error(InstrumentKind kind, const QString& message) {
 }
 
 void LabView::show_live(const std::vector<LiveReading>& readings) {
-  // Only the newest value of each channel matters for a panel.
-  std::array<const LiveReading*, 5> last{};
-  for (const auto& r : readings) last[static_cast<std::size_t>(r.channel)] = &r;
-  using C = LiveReading::Channel;
-  if (last[static_cast<std::size_t>(C::displacement)]) {
-    panel(InstrumentKind::tester)
-        ->set_value(tr("displacement"), last[static_cast<std::size_t>(C::displacement)]->value,
-                    QStringLiteral("mm"));
-  }
-  if (last[static_cast<std::size_t>(C::load)]) {
-    panel(InstrumentKind::tester)
-        ->set_value(tr("load"), last[static_cast<std::size_t>(C::load)]->value, QStringLiteral("N"));
-  }
-  if (last[static_cast<std::size_t>(C::power)]) {
-    panel(InstrumentKind::power_meter)
-        ->set_value(tr("power"), last[static_cast<std::size_t>(C::power)]->value, QStringLiteral("W"));
-  }
-  if (last[static_cast<std::size_t>(C::pressure)]) {
-    panel(InstrumentKind::vacuum)
-        ->set_value(tr("pressure"), last[static_cast<std::size_t>(C::pressure)]->value,
-                    QStringLiteral("kPa"));
+  // Only the newest value of each channel matters for a panel; the panel and the unit are the
+  // ones of the driver that describes the channel.
+  std::map<std::string_view, double> last;
+  for (const auto& r : readings) last[r.channel] = r.value;
+  for (const InstrumentKind kind : kInstrumentKinds) {
+    for (const auto& c : capabilities_of(kind).channels) {
+      const auto it = last.find(c.name);
+      if (it == last.end()) continue;
+      panel(kind)->set_value(QString::fromUtf8(c.name.data(), static_cast<qsizetype>(c.name.size())),
+                             it->second,
+                             QString::fromUtf8(c.unit.data(), static_cast<qsizetype>(c.unit.size())));
+    }
   }
 }
 

@@ -80,7 +80,13 @@ void MainWindow::build_views() {
 }
 
 void MainWindow::connect_backends() {
-  // Lab
+  wire_lab_signals();
+  wire_run_signals();
+  wire_browser_signals();
+  wire_simulation_signals();
+}
+
+void MainWindow::wire_lab_signals() {
   connect(lab_, &LabBackend::connected, this,
           [this](const QString& name, const QVector<InstrumentIdentity>& ids) {
             lab_busy_ = false;
@@ -101,8 +107,9 @@ void MainWindow::connect_backends() {
     show_error(action, message);
     update_actions();
   });
+}
 
-  // Run
+void MainWindow::wire_run_signals() {
   connect(run_, &RunBackend::started, this, [this](qint64 run_id, int step_count) {
     run_view_->begin_run(run_id, step_count);
     statusBar()->showMessage(tr("Run %1 recording into %2").arg(run_id).arg(record_db_path_));
@@ -140,8 +147,9 @@ void MainWindow::connect_backends() {
     lab_->reconnect();
     update_actions();
   });
+}
 
-  // Run browser
+void MainWindow::wire_browser_signals() {
   connect(browser_, &RunBrowserBackend::database_opened, this,
           [this](const QString& path, const QVector<RunListing>& runs) {
             browser_view_->show_database(path, runs);
@@ -183,8 +191,9 @@ void MainWindow::connect_backends() {
     browser_view_->show_fitted(v);
     statusBar()->showMessage(tr("Run %1: predicted with the sample's own law").arg(v.run_id));
   });
+}
 
-  // Simulation
+void MainWindow::wire_simulation_signals() {
   connect(sim_view_, &SimulationView::predict_requested, this, &MainWindow::predict_one);
   connect(sim_view_, &SimulationView::study_requested, this, &MainWindow::run_study);
   connect(study_, &StudyBackend::started, sim_view_, &SimulationView::begin);

@@ -108,6 +108,10 @@ class MainWindow : public QMainWindow {
   void build_actions();
   void build_views();
   void connect_backends();
+  void wire_lab_signals();
+  void wire_run_signals();
+  void wire_browser_signals();
+  void wire_simulation_signals();
   void update_actions();
   void show_error(const QString& action, const QString& message);
   QString ask_file(FileRequest request);

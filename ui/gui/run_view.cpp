@@ -106,25 +106,17 @@ void RunView::begin_run(qint64 run_id, int step_count) {
 }
 
 void RunView::add_readings(const std::vector<LiveReading>& readings) {
-  using C = LiveReading::Channel;
   for (const LiveReading& r : readings) {
-    switch (r.channel) {
-      case C::displacement:
-        last_displacement_ = r.value;
-        break;
-      case C::load:
-        // The tester reads position and load together: pair the load with the latest
-        // displacement.
-        if (std::isfinite(last_displacement_)) load_chart_->add(r.t_s, last_displacement_, r.value);
-        break;
-      case C::power:
-        power_chart_->add(r.t_s, r.t_s, r.value);
-        break;
-      case C::pressure:
-        pressure_chart_->add(r.t_s, r.t_s, r.value);
-        break;
-      case C::other:
-        break;
+    if (r.channel == "displacement") {
+      last_displacement_ = r.value;
+    } else if (r.channel == "load") {
+      // The tester reads position and load together: pair the load with the latest
+      // displacement.
+      if (std::isfinite(last_displacement_)) load_chart_->add(r.t_s, last_displacement_, r.value);
+    } else if (r.channel == "power") {
+      power_chart_->add(r.t_s, r.t_s, r.value);
+    } else if (r.channel == "pressure") {
+      pressure_chart_->add(r.t_s, r.t_s, r.value);
     }
   }
 }

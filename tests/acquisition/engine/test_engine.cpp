@@ -1,3 +1,4 @@
+#include <array>
 #include <chrono>
 #include <filesystem>
 #include <thread>
@@ -485,4 +486,87 @@ TEST_F(EngineTest, FailedPredictionsAreCounted) {
   EXPECT_EQ(s.predictions_stored, 0);
   EXPECT_TRUE(has_event(tocd::db::Reader(path_), run, "prediction",
                         "step 2: prediction failed: fake simulator failed"));
+}
+
+// The run's channel rows are the drivers' capability tables: name and unit as each driver
+// describes them, the instrument that reads them, and its poll rate.
+TEST_F(EngineTest, ChannelRowsAreWhatTheDriversDescribe) {
+  auto world = std::make_shared<FakeWorld>(kFactor);
+  tocd::db::Database db(path_);
+  const Protocol p = parse_protocol(pin_protocol("0.25"), "engine.toml");
+  InstrumentSet set = make_fake_instruments(world, true, true);
+  struct Expected {
+    std::string name, unit, kind;
+    double rate_Hz;
+  };
+  std::vector<Expected> expected;
+  const auto add = [&](const tocd::devices::InstrumentCapabilities& caps, double rate_Hz) {
+    for (const auto& c : caps.channels)
+      expected.push_back({std::string(c.name), std::string(c.unit), std::string(caps.kind), rate_Hz});
+  };
+  add(set.tester->describe(), p.rates.tester_Hz);
+  add(set.power_meter->describe(), p.rates.power_Hz);
+  add(set.vacuum->describe(), p.rates.pressure_Hz);
+  Engine engine(db, std::move(set), fast());
+  const auto run = engine.start(p);
+  ASSERT_EQ(engine.wait(), EngineState::completed) << engine.error();
+
+  const tocd::db::Reader r(path_);
+  const auto channels = r.channels(run);
+  ASSERT_EQ(channels.size(), expected.size());
+  for (std::size_t k = 0; k < channels.size(); ++k) {
+    SCOPED_TRACE(expected[k].name);
+    EXPECT_EQ(channels[k].name, expected[k].name);
+    EXPECT_EQ(channels[k].unit, expected[k].unit);
+    EXPECT_EQ(channels[k].nominal_rate_Hz, expected[k].rate_Hz);
+    const auto instrument = r.instrument(channels[k].instrument_id);
+    ASSERT_TRUE(instrument.has_value());
+    EXPECT_EQ(instrument->kind, expected[k].kind);
+  }
+  // Every described channel was recorded at each step.
+  for (const auto& c : channels) EXPECT_GT(r.samples(c.id).size(), 0u) << c.name;
+}
+
+namespace {
+
+/// The fake tester under a capability table that names its channels otherwise, as a driver
+/// of another instrument kind would.
+class MisdescribedTester : public tocd::devices::MechanicalTester {
+ public:
+  explicit MisdescribedTester(std::unique_ptr<tocd::devices::MechanicalTester> real)
+      : real_(std::move(real)) {}
+  const tocd::devices::InstrumentCapabilities& describe() const override { return kCaps; }
+  tocd::devices::Identity identity() override { return real_->identity(); }
+  tocd::devices::TesterReading read() override { return real_->read(); }
+  void move_to(double p, double v) override { real_->move_to(p, v); }
+  void stop() override { real_->stop(); }
+  void home() override { real_->home(); }
+  void tare_load() override { real_->tare_load(); }
+  void set_limits(double t, double l) override { real_->set_limits(t, l); }
+  void clear_fault() override { real_->clear_fault(); }
+
+ private:
+  static constexpr std::array<tocd::devices::ChannelCapability, 1> kChannels{
+      {{"position", "mm", 0, 50, 100}}};
+  static constexpr tocd::devices::InstrumentCapabilities kCaps{"mechanical_tester", "mechanical tester",
+                                                               kChannels};
+  std::unique_ptr<tocd::devices::MechanicalTester> real_;
+};
+
+}  // namespace
+
+TEST_F(EngineTest, ADriverDescribingOtherChannelsIsRefusedNamingBoth) {
+  auto world = std::make_shared<FakeWorld>(kFactor);
+  tocd::db::Database db(path_);
+  InstrumentSet set = make_fake_instruments(world);
+  set.tester = std::make_unique<MisdescribedTester>(std::move(set.tester));
+  try {
+    Engine engine(db, std::move(set), fast());
+    FAIL() << "an engine was made over a tester that describes no displacement and no load";
+  } catch (const EngineError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("[position]"), std::string::npos) << what;
+    EXPECT_NE(what.find("[displacement, load]"), std::string::npos) << what;
+  }
+  EXPECT_TRUE(tocd::db::Reader(path_).runs().empty());
 }

@@ -46,6 +46,7 @@ class RefusingTester : public dev::MechanicalTester {
  public:
   RefusingTester(std::unique_ptr<dev::MechanicalTester> real, std::shared_ptr<std::atomic<int>> refuse)
       : real_(std::move(real)), refuse_(std::move(refuse)) {}
+  const dev::InstrumentCapabilities& describe() const override { return real_->describe(); }
   dev::Identity identity() override { return real_->identity(); }
   dev::TesterReading read() override { return real_->read(); }
   void move_to(double position_mm, double v) override {
@@ -73,6 +74,7 @@ class BadReadingMeter : public dev::PowerMeter {
   BadReadingMeter(std::unique_ptr<dev::PowerMeter> real, std::shared_ptr<std::atomic<int>> bad,
                   std::shared_ptr<std::atomic<double>> value)
       : real_(std::move(real)), bad_(std::move(bad)), value_(std::move(value)) {}
+  const dev::InstrumentCapabilities& describe() const override { return real_->describe(); }
   dev::Identity identity() override { return real_->identity(); }
   std::string sensor_identity() override { return real_->sensor_identity(); }
   void set_wavelength_nm(double nm) override { real_->set_wavelength_nm(nm); }

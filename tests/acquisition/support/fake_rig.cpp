@@ -9,6 +9,9 @@
 
 #include "tocd/core/clock.hpp"
 #include "tocd/core/error.hpp"
+#include "tocd/devices/power_meter_drivers.hpp"
+#include "tocd/devices/tester_registers.hpp"
+#include "tocd/devices/vacuum_registers.hpp"
 
 namespace tocd::acquisition::testing {
 
@@ -74,6 +77,9 @@ namespace {
 class FakeTester : public devices::MechanicalTester {
  public:
   explicit FakeTester(std::shared_ptr<FakeWorld> w) : w_(std::move(w)) {}
+  const devices::InstrumentCapabilities& describe() const override {
+    return devices::tester_map::capabilities;
+  }
   devices::Identity identity() override { return {"Fake", "Tester", "T-1", "1.0"}; }
   devices::TesterReading read() override {
     ++w_->reads;
@@ -137,6 +143,9 @@ class FakeTester : public devices::MechanicalTester {
 class FakePowerMeter : public devices::PowerMeter {
  public:
   explicit FakePowerMeter(std::shared_ptr<FakeWorld> w) : w_(std::move(w)) {}
+  const devices::InstrumentCapabilities& describe() const override {
+    return devices::scpi_power_meter_capabilities;
+  }
   devices::Identity identity() override { return {"Fake", "PowerMeter", "P-1", "1.0"}; }
   std::string sensor_identity() override { return "fake photodiode"; }
   void set_wavelength_nm(double) override {}
@@ -171,6 +180,9 @@ class FakePowerMeter : public devices::PowerMeter {
 class FakeVacuum : public devices::VacuumController {
  public:
   explicit FakeVacuum(std::shared_ptr<FakeWorld> w) : w_(std::move(w)) {}
+  const devices::InstrumentCapabilities& describe() const override {
+    return devices::vacuum_map::capabilities;
+  }
   devices::Identity identity() override { return {"Fake", "Vacuum", "V-1", "1.0"}; }
   devices::VacuumReading read() override {
     devices::VacuumReading r;

@@ -85,56 +85,64 @@ std::optional<tocd::analysis::SampleIdentification> identify_run(const DemoOptio
   }
 }
 
-void run_demo(const DemoOptions& o) {
-  namespace acq = tocd::acquisition;
-  namespace an = tocd::analysis;
-  const acq::Protocol protocol = o.protocol.empty() ? acq::demo_protocol() : acq::load_protocol(o.protocol);
-  if (protocol.kind == acq::StepKind::vacuum)
-    throw tocd::ConfigError("tocdlab demo runs pin-compression protocols");
-  acq::check_simulated_clock_factor(protocol, o.clock_factor);
+namespace acq = tocd::acquisition;
+namespace an = tocd::analysis;
+
+/// The prediction settings, checked before the sample's preparation (a minute or more).
+an::SimPredictorSettings predictor_settings(const DemoOptions& o) {
   an::SimPredictorSettings predict;
   predict.photons = o.photons;
   predict.seed = o.seed;
   predict.mc_threads = o.threads;
-  an::validate(predict);  // before the sample's preparation: a minute or more
-  // Beside a database file; a server's table goes to the working directory.
-  const std::string csv_path = !o.csv.empty() ? o.csv
-                               : tocd::db::is_server_uri(o.db)
-                                   ? std::string("tocdlab-demo.csv")
-                                   : std::filesystem::path(o.db).replace_extension(".csv").string();
+  an::validate(predict);
+  return predict;
+}
 
-  // 1. The simulated sample: FE load curve and Monte Carlo transmission at the protocol's steps.
+/// The simulated sample: FE load curve and Monte Carlo transmission at the protocol's steps.
+struct DemoSample {
+  tocd::mocks::SampleTruth truth;
+  tocd::mocks::SimTissueTable table;
+  std::shared_ptr<tocd::mocks::TissueModel> tissue;
+};
+
+DemoSample prepare_demo_sample(const DemoOptions& o, const acq::Protocol& protocol) {
   cli::SampleChoice sample = o.truth;
-  const tocd::mocks::SampleTruth truth = cli::sample_truth(sample);  // a usage error before any work
+  DemoSample out;
+  out.truth = cli::sample_truth(sample);  // a usage error before any work
   sample.photons = o.sample_photons;
   sample.threads = o.threads;
   sample.cache_dir = o.cache_dir;
   sample.no_cache = o.no_cache;
-  tocd::mocks::SimTissueTable table;
-  const auto tissue = cli::prepare_sample(sample, protocol, &table);
-  const auto log = tocd::logger("cli");
-  const cli::PhaseTimer phases(*log, "demo");
-  log->debug("demo: phase 'simulated sample' took {:.3f} s ({})", table.seconds,
-             table.from_cache ? "from cache " + table.cache_file : "computed");
+  out.tissue = cli::prepare_sample(sample, protocol, &out.table);
+  return out;
+}
 
-  // 2. The simulated lab on loopback TCP / a pty, and the instruments through the real drivers.
-  std::optional<tocd::cli::AbortOnSignal> signals;
-  signals.emplace(std::cerr);
-  tocd::mocks::SimulatedLabOptions so = tocd::mocks::simulated_lab_options(truth);
-  so.tissue = tissue;
+/// The simulated lab on loopback TCP / a pty, holding the demo's sample.
+tocd::mocks::SimulatedLabOptions demo_lab_options(const DemoOptions& o, const acq::Protocol& protocol,
+                                                  const DemoSample& sample) {
+  tocd::mocks::SimulatedLabOptions so = tocd::mocks::simulated_lab_options(sample.truth);
+  so.tissue = sample.tissue;
   so.clock_factor = o.clock_factor;
   so.contact_position_mm = protocol.contact_position_mm;
   so.source_power_W = protocol.baseline.power_W.value_or(1e-3);
   so.with_vacuum = false;
   so.seed = o.seed;
-  tocd::mocks::SimulatedLab lab(so);
-  phases.mark("simulated lab started");
-  const tocd::devices::LabConfig lab_cfg = lab.config();
+  return so;
+}
 
-  // 3. The model that predicts each step: the published skin at the sample's thickness.
+struct DemoRun {
+  acq::EngineState final_state = acq::EngineState::idle;
+  std::int64_t run_id = 0;
+  std::string error;
+};
+
+/// Records and predicts the protocol on the lab of `lab_cfg`, the instruments through the
+/// real drivers, each step predicted by the published skin at the sample's thickness.
+DemoRun record_demo(const DemoOptions& o, const acq::Protocol& protocol,
+                    const tocd::devices::LabConfig& lab_cfg, const an::SimPredictorSettings& predict,
+                    tocd::cli::AbortOnSignal& signals, const cli::PhaseTimer& phases) {
   acq::LabSessionOptions session;
   session.predictor = an::make_recording_predictor(predict);
-
   tocd::db::Database db(o.db);
   acq::EngineOptions& eo = session.engine;
   eo.clock_factor = o.clock_factor;
@@ -142,79 +150,114 @@ void run_demo(const DemoOptions& o) {
   eo.unattended = true;  // a fault ends the demo run (interrupted) rather than pausing it for good
   eo.lab_config_text = "# simulated lab (tocdlab demo)\n" + tocd::devices::to_toml(lab_cfg);
   tocd::cli::TerminalProgress progress;
-  acq::EngineState final_state;
-  std::int64_t run_id = 0;
-  std::string error;
-  {
-    acq::LabSession lab_session(db, lab_cfg, session, &progress);
-    acq::Engine& engine = lab_session.engine();
-    const tocd::cli::AbortOnSignal::Attached attached(*signals, engine);
-    run_id = engine.start(protocol);
-    if (!cli::progress_quiet())
-      std::cerr << fmt::format("run {} ({} steps) recording into {}", run_id, protocol.steps.size(),
-                               tocd::db::display_location(o.db))
-                << std::endl;
-    phases.mark("run started");
-    final_state = engine.wait();
-    error = engine.error();
-    phases.mark("run recorded and predicted");
-  }
-  // No pin moves any more: SIGINT and SIGTERM end the program again at once (the
-  // identification below runs for minutes and would otherwise not hear them).
-  signals.reset();
+  DemoRun out;
+  acq::LabSession lab_session(db, lab_cfg, session, &progress);
+  acq::Engine& engine = lab_session.engine();
+  const tocd::cli::AbortOnSignal::Attached attached(signals, engine);
+  out.run_id = engine.start(protocol);
+  if (!cli::progress_quiet())
+    std::cerr << fmt::format("run {} ({} steps) recording into {}", out.run_id, protocol.steps.size(),
+                             tocd::db::display_location(o.db))
+              << std::endl;
+  phases.mark("run started");
+  out.final_state = engine.wait();
+  out.error = engine.error();
+  phases.mark("run recorded and predicted");
+  return out;
+}
 
-  // 4. Measured vs. predicted: the table (or with --json the whole run summary) on stdout, the
-  // CSV file beside the database, the files written announced on stderr.
-  const tocd::db::Reader reader(o.db);
-  const acq::CompareTable t = acq::compare_table(reader, run_id);
-  // Clearing over time: T at the start and the end of each step's recording window.
-  const auto holds = acq::hold_clearing(reader, run_id);
-  tocd::write_file_atomically(csv_path, cli::to_naming_table_csv(acq::format_compare_csv(t)));
-  phases.mark("compare table written");
+/// Measured vs. predicted: the table (or with --json the whole run summary) on stdout, with
+/// the clearing during the holds and what the run says about its sample.
+void print_demo(const DemoOptions& o, const DemoRun& run, const DemoSample& sample,
+                const tocd::db::Reader& reader, const acq::CompareTable& t,
+                const std::vector<acq::HoldClearing>& holds, const std::string& csv_path) {
   // The identification needs a whole run: an interrupted one fails below without it.
-  const bool identify = final_state == acq::EngineState::completed;
+  const bool identify = run.final_state == acq::EngineState::completed;
   if (o.json) {
-    const auto id = identify ? identify_run(o, reader, run_id) : std::nullopt;
-    nlohmann::json summary = {{"run_id", run_id},
-                              {"state", acq::to_string(final_state)},
-                              {"error", error},
+    const auto id = identify ? identify_run(o, reader, run.run_id) : std::nullopt;
+    nlohmann::json summary = {{"run_id", run.run_id},
+                              {"state", acq::to_string(run.final_state)},
+                              {"error", run.error},
                               {"files", {{"database", tocd::db::display_location(o.db)}, {"csv", csv_path}}},
                               {"simulated_sample",
-                               {{"seconds", table.seconds},
-                                {"from_cache", table.from_cache},
-                                {"cache_file", table.cache_file},
-                                {"truth", tocd::mocks::to_json(truth)}}},
+                               {{"seconds", sample.table.seconds},
+                                {"from_cache", sample.table.from_cache},
+                                {"cache_file", sample.table.cache_file},
+                                {"truth", tocd::mocks::to_json(sample.truth)}}},
                               {"compare", acq::to_json(t)},
                               {"hold_clearing", acq::hold_clearing_json(holds)}};
     if (id) summary["identified"] = tocd::analysis::to_json(*id);
     cli::print_json(summary);
-  } else {
-    std::cout << acq::format_compare_table(t);
-    std::cout
-        << "T = transmitted power / glass-only baseline power; predicted T from the FE + Monte Carlo model "
-           "(published Ogden skin, threshold optics) +- its Monte Carlo standard error.\n";
-    std::cout << "\nClearing during the holds: measured T over the first and the last second of each "
-                 "step's recording (the sample keeps clearing while its water drains):\n"
-              << acq::format_hold_clearing(holds);
-    // The table first: the identification takes a minute or more (its Monte Carlo).
-    std::cout << std::flush;
-    if (const auto id = identify ? identify_run(o, reader, run_id) : std::nullopt) {
-      std::cout << '\n';
-      tocd::cli::print_identification(std::cout, *id);
-    }
+    return;
   }
-  const std::string shown_db = tocd::db::display_location(o.db);
-  cli::announce_file("database",
-                     fmt::format("{}  (tocdlab compare --db {} --run {})", shown_db, shown_db, run_id));
-  cli::announce_file("table (CSV)", csv_path);
-  if (final_state != acq::EngineState::completed)
-    throw tocd::Error(fmt::format("demo run {} ended {}: {}", run_id, acq::to_string(final_state), error));
+  std::cout << acq::format_compare_table(t);
+  std::cout
+      << "T = transmitted power / glass-only baseline power; predicted T from the FE + Monte Carlo model "
+         "(published Ogden skin, threshold optics) +- its Monte Carlo standard error.\n";
+  std::cout << "\nClearing during the holds: measured T over the first and the last second of each "
+               "step's recording (the sample keeps clearing while its water drains):\n"
+            << acq::format_hold_clearing(holds);
+  // The table first: the identification takes a minute or more (its Monte Carlo).
+  std::cout << std::flush;
+  if (const auto id = identify ? identify_run(o, reader, run.run_id) : std::nullopt) {
+    std::cout << '\n';
+    tocd::cli::print_identification(std::cout, *id);
+  }
+}
+
+/// The demo fails unless its run completed with every step measured and predicted.
+void check_demo_end(const DemoRun& run, const acq::CompareTable& t) {
+  if (run.final_state != acq::EngineState::completed)
+    throw tocd::Error(
+        fmt::format("demo run {} ended {}: {}", run.run_id, acq::to_string(run.final_state), run.error));
   std::size_t missing = 0;
   for (const auto& l : t.lines)
     if (!l.completed || !l.has_prediction) ++missing;
   if (missing > 0)
     throw tocd::Error(
-        fmt::format("demo run {}: {} step(s) without a measured and predicted T", run_id, missing));
+        fmt::format("demo run {}: {} step(s) without a measured and predicted T", run.run_id, missing));
+}
+
+void run_demo(const DemoOptions& o) {
+  const acq::Protocol protocol = o.protocol.empty() ? acq::demo_protocol() : acq::load_protocol(o.protocol);
+  if (protocol.kind == acq::StepKind::vacuum)
+    throw tocd::ConfigError("tocdlab demo runs pin-compression protocols");
+  acq::check_simulated_clock_factor(protocol, o.clock_factor);
+  const an::SimPredictorSettings predict = predictor_settings(o);
+  // Beside a database file; a server's table goes to the working directory.
+  const std::string csv_path = !o.csv.empty() ? o.csv
+                               : tocd::db::is_server_uri(o.db)
+                                   ? std::string("tocdlab-demo.csv")
+                                   : std::filesystem::path(o.db).replace_extension(".csv").string();
+
+  const DemoSample sample = prepare_demo_sample(o, protocol);
+  const auto log = tocd::logger("cli");
+  const cli::PhaseTimer phases(*log, "demo");
+  log->debug("demo: phase 'simulated sample' took {:.3f} s ({})", sample.table.seconds,
+             sample.table.from_cache ? "from cache " + sample.table.cache_file : "computed");
+
+  std::optional<tocd::cli::AbortOnSignal> signals;
+  signals.emplace(std::cerr);
+  tocd::mocks::SimulatedLab lab(demo_lab_options(o, protocol, sample));
+  phases.mark("simulated lab started");
+  const tocd::devices::LabConfig lab_cfg = lab.config();
+  const DemoRun run = record_demo(o, protocol, lab_cfg, predict, *signals, phases);
+  // No pin moves any more: SIGINT and SIGTERM end the program again at once (the
+  // identification below runs for minutes and would otherwise not hear them).
+  signals.reset();
+
+  const tocd::db::Reader reader(o.db);
+  const acq::CompareTable t = acq::compare_table(reader, run.run_id);
+  // Clearing over time: T at the start and the end of each step's recording window.
+  const auto holds = acq::hold_clearing(reader, run.run_id);
+  tocd::write_file_atomically(csv_path, cli::to_naming_table_csv(acq::format_compare_csv(t)));
+  phases.mark("compare table written");
+  print_demo(o, run, sample, reader, t, holds, csv_path);
+  cli::announce_file("database",
+                     fmt::format("{}  (tocdlab compare --db {} --run {})", tocd::db::display_location(o.db),
+                                 tocd::db::display_location(o.db), run.run_id));
+  cli::announce_file("table (CSV)", csv_path);
+  check_demo_end(run, t);
 }
 
 void install_demo(CLI::App& root) {

@@ -56,6 +56,9 @@ std::string read_text(const std::string& path) {
   return ss.str();
 }
 
+namespace acq = tocd::acquisition;
+namespace an = tocd::analysis;
+
 // Store-and-forward: the run is whole in its local file; a server that is away now gets it
 // from a later push, so a failed push is said and the run's outcome stands.
 void push_after_run(const RunOptions& o, const std::string& server, std::int64_t run_id) {
@@ -75,9 +78,8 @@ void push_after_run(const RunOptions& o, const std::string& server, std::int64_t
   }
 }
 
-void run_protocol(const RunOptions& o) {
-  namespace acq = tocd::acquisition;
-  namespace an = tocd::analysis;
+/// Combinations of options that cannot work: usage errors, before anything is opened.
+void check_options(const RunOptions& o) {
   if (o.lab.empty() == !o.simulated)
     throw tocd::ConfigError("give exactly one of --lab LAB.toml or --simulated");
   if (!o.resume && o.protocol.empty()) throw tocd::ConfigError("give a PROTOCOL.toml (or --resume RUN_ID)");
@@ -93,103 +95,119 @@ void run_protocol(const RunOptions& o) {
     std::cerr << "note: --resume continues with the protocol stored in run " << *o.resume << "; "
               << o.protocol << " is not read\n";
   }
-  // Parse everything the user wrote before touching the database.
-  std::optional<tocd::devices::LabConfig> lab_cfg;
+}
+
+/// Everything the user wrote, parsed before the database is touched.
+struct RunInputs {
+  std::optional<tocd::devices::LabConfig> lab;
   std::string lab_text;
+  std::optional<acq::Protocol> fresh;  ///< the protocol of a new run (none on --resume)
+  std::optional<an::SimPredictorSettings> predict;
+};
+
+RunInputs parse_inputs(const RunOptions& o) {
+  RunInputs in;
   if (!o.lab.empty()) {
-    lab_cfg = tocd::devices::load_lab_config(o.lab);
-    lab_text = read_text(o.lab);
+    in.lab = tocd::devices::load_lab_config(o.lab);
+    in.lab_text = read_text(o.lab);
   }
-  std::optional<acq::Protocol> fresh;
-  if (!o.resume) fresh = acq::load_protocol(o.protocol);
+  if (!o.resume) in.fresh = acq::load_protocol(o.protocol);
   // A run must never record steps it cannot predict: the settings are checked before
   // anything is opened (a vacuum protocol, which is not predicted, is checked as well).
-  std::optional<an::SimPredictorSettings> predict;
   if (!o.no_predict) {
-    predict.emplace();
-    predict->photons = o.photons;
-    predict->seed = o.seed;
-    an::validate(*predict);
+    in.predict.emplace();
+    in.predict->photons = o.photons;
+    in.predict->seed = o.seed;
+    an::validate(*in.predict);
   }
-  if (o.simulated && fresh) acq::check_simulated_clock_factor(*fresh, o.clock_factor);
+  if (o.simulated && in.fresh) acq::check_simulated_clock_factor(*in.fresh, o.clock_factor);
+  return in;
+}
 
-  // Before any thread starts (simulated lab servers, drivers, engine): every thread then
-  // inherits the blocked SIGINT/SIGTERM and only the watcher sees them.
-  tocd::cli::AbortOnSignal signals(std::cerr);
-  const cli::PhaseTimer phases(*tocd::logger("cli"), "run");
-  tocd::db::Database db(o.db);
-  const acq::Protocol protocol =
-      fresh ? *fresh
-            : acq::parse_protocol(db.run(*o.resume).protocol_text, fmt::format("run {} protocol", *o.resume));
-  if (o.simulated && !fresh) acq::check_simulated_clock_factor(protocol, o.clock_factor);
+/// Starts the simulated lab for `protocol` and points `in` at it.
+std::unique_ptr<tocd::mocks::SimulatedLab> start_simulated_lab(const RunOptions& o,
+                                                               const acq::Protocol& protocol, RunInputs& in) {
+  tocd::mocks::SimulatedLabOptions so = cli::simulated_lab_options(o.sample);
+  so.clock_factor = o.clock_factor;
+  so.contact_position_mm = protocol.contact_position_mm;
+  so.tissue = cli::prepare_sample(o.sample, protocol);
+  // As `tocdlab demo` sets up the lab, so the same protocol and seed measure the same.
+  so.source_power_W = protocol.baseline.power_W.value_or(so.source_power_W);
+  so.seed = o.seed;
+  so.with_vacuum = protocol.kind == acq::StepKind::vacuum;
+  auto sim = std::make_unique<tocd::mocks::SimulatedLab>(so);
+  in.lab = sim->config();
+  in.lab_text = "# simulated lab (tocdlab run --simulated)\n" + tocd::devices::to_toml(*in.lab);
+  return sim;
+}
 
-  std::unique_ptr<tocd::mocks::SimulatedLab> sim;
-  if (o.simulated) {
-    tocd::mocks::SimulatedLabOptions so = cli::simulated_lab_options(o.sample);
-    so.clock_factor = o.clock_factor;
-    so.contact_position_mm = protocol.contact_position_mm;
-    so.tissue = cli::prepare_sample(o.sample, protocol);
-    // As `tocdlab demo` sets up the lab, so the same protocol and seed measure the same.
-    so.source_power_W = protocol.baseline.power_W.value_or(so.source_power_W);
-    so.seed = o.seed;
-    so.with_vacuum = protocol.kind == acq::StepKind::vacuum;
-    sim = std::make_unique<tocd::mocks::SimulatedLab>(so);
-    lab_cfg = sim->config();
-    lab_text = "# simulated lab (tocdlab run --simulated)\n" + tocd::devices::to_toml(*lab_cfg);
-  }
+/// How a run ended, as the engine says.
+struct RunOutcome {
+  acq::EngineState final_state = acq::EngineState::idle;
+  std::int64_t run_id = 0;
+  std::string error;
+  acq::EngineStats stats;
+};
+
+/// Records the run (new, or resumed) on the lab of `in` until it ends or pauses.
+RunOutcome record(const RunOptions& o, tocd::db::Database& db, const acq::Protocol& protocol,
+                  const RunInputs& in, tocd::cli::AbortOnSignal& signals, const cli::PhaseTimer& phases) {
   acq::LabSessionOptions session;
   acq::EngineOptions& eo = session.engine;
   eo.clock_factor = o.clock_factor;
   eo.operator_name = o.operator_name;
-  eo.lab_config_text = lab_text;
+  eo.lab_config_text = in.lab_text;
   eo.unattended = true;  // nobody can resume a pause from here: a fault ends the run, resumable
+  if (in.predict && protocol.kind != acq::StepKind::vacuum)
+    session.predictor = an::make_recording_predictor(*in.predict);
   tocd::cli::TerminalProgress progress;
-  acq::EngineState final_state;
-  std::int64_t run_id = 0;
-  std::string error;
-  acq::EngineStats stats;
-  {
-    if (predict && protocol.kind != acq::StepKind::vacuum)
-      session.predictor = an::make_recording_predictor(*predict);
-    acq::LabSession lab_session(db, *lab_cfg, session, &progress);
-    phases.mark("instruments opened");
-    acq::Engine& engine = lab_session.engine();
-    const tocd::cli::AbortOnSignal::Attached attached(signals, engine);
-    run_id = o.resume ? engine.resume(*o.resume) : engine.start(protocol);
-    if (!cli::progress_quiet())
-      std::cerr << fmt::format("run {} ({} steps) recording into {}", run_id, protocol.steps.size(),
-                               tocd::db::display_location(o.db))
-                << std::endl;
-    phases.mark("run started");
-    final_state = engine.wait();
-    error = engine.error();
-    stats = engine.stats();
-    phases.mark("run ended");
-  }
-  // The table (or with --json the run summary) on stdout; how the run ended on stderr.
-  const acq::CompareTable table = acq::compare_table(tocd::db::Reader(o.db), run_id);
-  if (o.json) {
-    cli::print_json({{"run_id", run_id},
-                     {"state", acq::to_string(final_state)},
-                     {"error", error},
-                     {"samples_lost", stats.samples_dropped + stats.writer.failed_samples},
-                     {"predictions",
-                      {{"asked", stats.predictions_asked},
-                       {"stored", stats.predictions_stored},
-                       {"failed", stats.predictions_failed},
-                       {"cancelled", stats.predictions_cancelled}}},
-                     {"files", {{"database", tocd::db::display_location(o.db)}}},
-                     {"compare", acq::to_json(table)}});
-  } else {
+  RunOutcome out;
+  acq::LabSession lab_session(db, *in.lab, session, &progress);
+  phases.mark("instruments opened");
+  acq::Engine& engine = lab_session.engine();
+  const tocd::cli::AbortOnSignal::Attached attached(signals, engine);
+  out.run_id = o.resume ? engine.resume(*o.resume) : engine.start(protocol);
+  if (!cli::progress_quiet())
+    std::cerr << fmt::format("run {} ({} steps) recording into {}", out.run_id, protocol.steps.size(),
+                             tocd::db::display_location(o.db))
+              << std::endl;
+  phases.mark("run started");
+  out.final_state = engine.wait();
+  out.error = engine.error();
+  out.stats = engine.stats();
+  phases.mark("run ended");
+  return out;
+}
+
+/// The table (or with --json the run summary) on stdout.
+void print_result(const RunOptions& o, const RunOutcome& r) {
+  const acq::CompareTable table = acq::compare_table(tocd::db::Reader(o.db), r.run_id);
+  if (!o.json) {
     std::cout << acq::format_compare_table(table);
+    return;
   }
-  const std::string push_to = o.push_to.empty() && lab_cfg ? lab_cfg->push_to : o.push_to;
-  if (!push_to.empty()) push_after_run(o, push_to, run_id);  // however it ended: interrupted runs too
+  const acq::EngineStats& stats = r.stats;
+  cli::print_json({{"run_id", r.run_id},
+                   {"state", acq::to_string(r.final_state)},
+                   {"error", r.error},
+                   {"samples_lost", stats.samples_dropped + stats.writer.failed_samples},
+                   {"predictions",
+                    {{"asked", stats.predictions_asked},
+                     {"stored", stats.predictions_stored},
+                     {"failed", stats.predictions_failed},
+                     {"cancelled", stats.predictions_cancelled}}},
+                   {"files", {{"database", tocd::db::display_location(o.db)}}},
+                   {"compare", acq::to_json(table)}});
+}
+
+/// How the run ended, on stderr; throws (exit 1) unless it completed or the operator aborted
+/// it, every sample reached the file and no prediction failed (docs/acquisition.md).
+void report_end(const RunOptions& o, const RunOutcome& r) {
+  const acq::EngineStats& stats = r.stats;
+  const std::int64_t run_id = r.run_id;
   const std::string again =
       fmt::format("tocdlab run --resume {} --db {} {}", run_id, tocd::db::display_location(o.db),
                   o.simulated ? std::string("--simulated") : "--lab " + o.lab);
-  // Exit status (docs/acquisition.md): 0 only when the run completed or the operator aborted
-  // it and every sample reached the file.
   const std::uint64_t lost = stats.samples_dropped + stats.writer.failed_samples;
   const std::string lost_text =
       lost == 0 ? std::string()
@@ -198,7 +216,7 @@ void run_protocol(const RunOptions& o) {
                       "lost to failed database commits{})",
                       lost, o.db, stats.samples_dropped, stats.writer.failed_samples,
                       stats.writer.last_error.empty() ? "" : ": " + stats.writer.last_error);
-  switch (final_state) {
+  switch (r.final_state) {
     case acq::EngineState::completed:
       std::cerr << fmt::format("run {} completed\n", run_id);
       break;
@@ -208,7 +226,7 @@ void run_protocol(const RunOptions& o) {
       break;
     default:
       throw tocd::Error(fmt::format("run {} {}: {}{}. Continue it with: {}", run_id,
-                                    acq::to_string(final_state), error, lost == 0 ? "" : "; " + lost_text,
+                                    acq::to_string(r.final_state), r.error, lost == 0 ? "" : "; " + lost_text,
                                     again));
   }
   if (lost > 0) throw tocd::Error(fmt::format("run {}: {}", run_id, lost_text));
@@ -224,6 +242,27 @@ void run_protocol(const RunOptions& o) {
         "(tocdlab export --db {} --run {} --table events)",
         run_id, stats.predictions_failed, stats.predictions_asked, o.db, run_id));
   }
+}
+
+void run_protocol(const RunOptions& o) {
+  check_options(o);
+  RunInputs in = parse_inputs(o);
+  // Before any thread starts (simulated lab servers, drivers, engine): every thread then
+  // inherits the blocked SIGINT/SIGTERM and only the watcher sees them.
+  tocd::cli::AbortOnSignal signals(std::cerr);
+  const cli::PhaseTimer phases(*tocd::logger("cli"), "run");
+  tocd::db::Database db(o.db);
+  const acq::Protocol protocol = in.fresh ? *in.fresh
+                                          : acq::parse_protocol(db.run(*o.resume).protocol_text,
+                                                                fmt::format("run {} protocol", *o.resume));
+  if (o.simulated && !in.fresh) acq::check_simulated_clock_factor(protocol, o.clock_factor);
+  std::unique_ptr<tocd::mocks::SimulatedLab> sim;
+  if (o.simulated) sim = start_simulated_lab(o, protocol, in);
+  const RunOutcome outcome = record(o, db, protocol, in, signals, phases);
+  print_result(o, outcome);
+  const std::string push_to = o.push_to.empty() && in.lab ? in.lab->push_to : o.push_to;
+  if (!push_to.empty()) push_after_run(o, push_to, outcome.run_id);  // however it ended: interrupted too
+  report_end(o, outcome);
 }
 
 void install_run(CLI::App& root) {

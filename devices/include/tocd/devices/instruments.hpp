@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <string>
 
+#include "tocd/devices/capabilities.hpp"
 #include "tocd/devices/errors.hpp"
 
 namespace tocd::devices {
@@ -39,6 +40,8 @@ struct TesterReading {
 class MechanicalTester {
  public:
   virtual ~MechanicalTester() = default;
+  /// The channels this driver reads (its capability table); static data, any thread.
+  virtual const InstrumentCapabilities& describe() const = 0;
   virtual Identity identity() = 0;
   virtual TesterReading read() = 0;
   /// Starts a move to `position_mm` at `velocity_mm_per_s`; returns at once (poll read()).
@@ -61,6 +64,8 @@ struct PowerReading {
 class PowerMeter {
  public:
   virtual ~PowerMeter() = default;
+  /// The channels this driver reads (its capability table); static data, any thread.
+  virtual const InstrumentCapabilities& describe() const = 0;
   virtual Identity identity() = 0;
   virtual std::string sensor_identity() = 0;
   virtual void set_wavelength_nm(double nm) = 0;
@@ -85,6 +90,8 @@ struct VacuumReading {
 class VacuumController {
  public:
   virtual ~VacuumController() = default;
+  /// The channels this driver reads (its capability table); static data, any thread.
+  virtual const InstrumentCapabilities& describe() const = 0;
   virtual Identity identity() = 0;
   virtual VacuumReading read() = 0;
   virtual void set_setpoint_kPa(double kPa) = 0;

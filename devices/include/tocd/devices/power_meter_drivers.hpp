@@ -1,10 +1,12 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "tocd/devices/capabilities.hpp"
 #include "tocd/devices/instruments.hpp"
 #include "tocd/devices/scpi_client.hpp"
 #include "tocd/devices/usb_endpoint.hpp"
@@ -43,12 +45,21 @@ inline constexpr double scpi_over_range = 9.0e37;
 /// SCPI's code for "not a number" (a failed measurement).
 inline constexpr double scpi_not_a_number = 9.91e37;
 
+/// The channel a run records of a SCPI power meter: the optical power on its sensor, up to the
+/// 0.5 W limit of the photodiode sensors of this command set (S121C class).
+inline constexpr std::array<ChannelCapability, 1> scpi_power_meter_channels{{
+    {"power", "W", 0.0, 0.5, 10.0},
+}};
+inline constexpr InstrumentCapabilities scpi_power_meter_capabilities{"power_meter", "power meter",
+                                                                      scpi_power_meter_channels};
+
 /// PowerMeter over SCPI (either transport) with the Thorlabs PM100-class command subset, plus
 /// the SCPI operations the generic interface does not cover. Not thread-safe.
 class ScpiPowerMeter : public PowerMeter {
  public:
   ScpiPowerMeter(std::unique_ptr<ScpiLink> link, std::string instrument, const PowerMeterOptions& options);
 
+  const InstrumentCapabilities& describe() const override { return scpi_power_meter_capabilities; }
   Identity identity() override;                // *IDN?
   std::string sensor_identity() override;      // SYST:SENS:IDN?
   void set_wavelength_nm(double nm) override;  // SENS:CORR:WAV

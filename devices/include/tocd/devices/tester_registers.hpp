@@ -1,6 +1,9 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
+
+#include "tocd/devices/capabilities.hpp"
 
 // The tocdlab mechanical tester register map, version 1 (docs/instruments/mechanical-tester.md).
 // Floats: IEEE-754 single over two registers, high word first (register_codec.hpp).
@@ -52,5 +55,14 @@ inline constexpr std::uint16_t cmd_stop = 2;
 inline constexpr std::uint16_t cmd_home = 3;
 inline constexpr std::uint16_t cmd_tare = 4;
 inline constexpr std::uint16_t cmd_clear_fault = 5;
+
+// The channels a run records of the tester. Displacement is the position register less the
+// protocol's contact position (the engine subtracts it); the ranges are the stroke and the load
+// cell of the instrument this map documents (100 mm, 500 N either way).
+inline constexpr std::array<ChannelCapability, 2> channels{{
+    {"displacement", "mm", 0.0, 100.0, 1000.0},
+    {"load", "N", -500.0, 500.0, 1000.0},
+}};
+inline constexpr InstrumentCapabilities capabilities{"mechanical_tester", "mechanical tester", channels};
 
 }  // namespace tocd::devices::tester_map

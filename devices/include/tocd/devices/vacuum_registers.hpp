@@ -1,6 +1,9 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
+
+#include "tocd/devices/capabilities.hpp"
 
 // The tocdlab vacuum pump controller register map, version 1
 // (docs/instruments/vacuum-controller.md). Floats high word first (register_codec.hpp).
@@ -33,5 +36,12 @@ inline constexpr int hr_pump_run = 2;     ///< 0 stop, 1 run
 inline constexpr int hr_vent = 3;         ///< 0 closed, 1 open
 inline constexpr int hr_clear_error = 4;  ///< write 1 to clear the error code
 inline constexpr int holding_count = 5;
+
+// The channel a run records of the controller: the chamber's absolute pressure, from the
+// pump's ultimate vacuum to a little above atmosphere (setpoints are accepted up to 110 kPa).
+inline constexpr std::array<ChannelCapability, 1> channels{{
+    {"pressure", "kPa", 0.0, 110.0, 10.0},
+}};
+inline constexpr InstrumentCapabilities capabilities{"vacuum", "vacuum controller", channels};
 
 }  // namespace tocd::devices::vacuum_map
