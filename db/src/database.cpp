@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "pg/pg_database.hpp"
+#include "resume_plan.hpp"
 #include "rows.hpp"
 #include "run_lock.hpp"
 #include "schema.hpp"
@@ -315,43 +316,16 @@ ResumePoint Database::resume_run(std::int64_t run_id, double clock_factor) {
   if (!impl_->locks->acquire(run_id))
     throw DatabaseError(fmt::format("run {} is being resumed by another process", run_id));
   try {
-    ResumePoint p;
     Transaction t(impl_->c);
-    p.first_incomplete_step = detail::first_incomplete_step(impl_->c, run_id);
+    const int first_incomplete = detail::first_incomplete_step(impl_->c, run_id);
     const auto last = detail::last_recorded_t_ns(impl_->c, run_id);
+    const auto anchors = detail::run_anchors(impl_->c, run_id);
     const std::int64_t now = monotonic_ns();
     const auto wall = wall_clock_ns();
-    // The resumed segment's clock starts after everything recorded, so t_ns stays ordered also
-    // when a sped-up simulated clock ran ahead of the monotonic one or the machine rebooted
-    // (its monotonic clock restarted behind where the run's last segment began).
-    p.gap_to_t_ns = last ? std::max(now, *last + 1) : now;
-    p.gap_from_t_ns = last.value_or(p.gap_to_t_ns);
-    const auto anchors = detail::run_anchors(impl_->c, run_id);
-    const std::int64_t segment_began = anchors.empty() ? r.monotonic_anchor_ns : anchors.back().monotonic_ns;
-    const bool clock_restarted = segment_began > now;
+    ResumePoint p = detail::plan_resume(r, anchors, last, first_incomplete, now, wall);
     impl_->add_anchor(run_id, wall, p.gap_to_t_ns, clock_factor);
     Statement s(impl_->c, "UPDATE runs SET status = 'running', ended_utc_ns = NULL WHERE id = ?");
     s.bind(1, run_id).run();
-    p.gap_event.run_id = run_id;
-    p.gap_event.t_ns = p.gap_to_t_ns;
-    p.gap_event.kind = "gap";
-    p.gap_event.step_index = p.first_incomplete_step;
-    // Steps are numbered from 1 wherever a user reads them (step_index stays 0-based).
-    const int step_shown = p.first_incomplete_step + 1;
-    if (!last) {
-      p.gap_event.message = fmt::format("resumed (was {}, nothing recorded yet); continuing at step {}",
-                                        to_string(r.status), step_shown);
-    } else {
-      // The gap in real time: UTC of the last record (by its segment's anchor) to now.
-      const std::int64_t last_utc =
-          anchors.empty() ? r.to_utc_ns(*last) : utc_ns(anchors, anchors.back().segment, *last);
-      p.gap_event.message =
-          fmt::format("resumed after a gap of {:.3f} s (was {}{}); continuing at step {}",
-                      static_cast<double>(wall - last_utc) * 1e-9, to_string(r.status),
-                      clock_restarted ? "; the monotonic clock restarted, see run_anchors" : "", step_shown);
-    }
-    p.gap_event.data_json = fmt::format(R"({{"gap_from_t_ns":{},"gap_to_t_ns":{},"resumed_utc_ns":{}}})",
-                                        p.gap_from_t_ns, p.gap_to_t_ns, wall);
     p.gap_event.id = impl_->insert_event(p.gap_event);
     t.commit();
     r.status = RunStatus::running;

@@ -6,6 +6,7 @@
 
 #include "pg_rows.hpp"
 #include "pg_schema.hpp"
+#include "resume_plan.hpp"
 #include "tocd/core/clock.hpp"
 #include "tocd/core/log.hpp"
 #include "tocd/core/version.hpp"
@@ -164,38 +165,16 @@ ResumePoint PgDatabase::resume_run(std::int64_t run_id, double clock_factor) {
   if (!acquire(run_id))
     throw DatabaseError(fmt::format("run {} is being resumed by another process", run_id));
   try {
-    ResumePoint p;
     Transaction t(c_);
-    p.first_incomplete_step = pg::first_incomplete_step(c_, run_id);
+    const int first_incomplete = pg::first_incomplete_step(c_, run_id);
     const auto last = last_recorded_t_ns(c_, run_id);
+    const auto anchors = run_anchors(c_, run_id);
     const std::int64_t now = monotonic_ns();
     const auto wall = wall_clock_ns();
-    // As on a file (database.cpp): the resumed segment's clock starts after everything recorded.
-    p.gap_to_t_ns = last ? std::max(now, *last + 1) : now;
-    p.gap_from_t_ns = last.value_or(p.gap_to_t_ns);
-    const auto anchors = run_anchors(c_, run_id);
-    const std::int64_t segment_began = anchors.empty() ? r.monotonic_anchor_ns : anchors.back().monotonic_ns;
-    const bool clock_restarted = segment_began > now;
+    // As on a file: the gap, the new segment's start and its event (resume_plan.hpp).
+    ResumePoint p = db::detail::plan_resume(r, anchors, last, first_incomplete, now, wall);
     add_anchor(run_id, wall, p.gap_to_t_ns, clock_factor);
     c_.query("UPDATE runs SET status = 'running', ended_utc_ns = NULL WHERE id = $1", {run_id});
-    p.gap_event.run_id = run_id;
-    p.gap_event.t_ns = p.gap_to_t_ns;
-    p.gap_event.kind = "gap";
-    p.gap_event.step_index = p.first_incomplete_step;
-    const int step_shown = p.first_incomplete_step + 1;
-    if (!last) {
-      p.gap_event.message = fmt::format("resumed (was {}, nothing recorded yet); continuing at step {}",
-                                        to_string(r.status), step_shown);
-    } else {
-      const std::int64_t last_utc =
-          anchors.empty() ? r.to_utc_ns(*last) : utc_ns(anchors, anchors.back().segment, *last);
-      p.gap_event.message =
-          fmt::format("resumed after a gap of {:.3f} s (was {}{}); continuing at step {}",
-                      static_cast<double>(wall - last_utc) * 1e-9, to_string(r.status),
-                      clock_restarted ? "; the monotonic clock restarted, see run_anchors" : "", step_shown);
-    }
-    p.gap_event.data_json = fmt::format(R"({{"gap_from_t_ns":{},"gap_to_t_ns":{},"resumed_utc_ns":{}}})",
-                                        p.gap_from_t_ns, p.gap_to_t_ns, wall);
     p.gap_event.id = insert_event(p.gap_event);
     t.commit();
     r.status = RunStatus::running;
