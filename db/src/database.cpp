@@ -87,21 +87,12 @@ struct Database::Impl {
     if (stale.empty()) return;
     Transaction t(c);
     for (const auto& r : stale) {
-      const auto last = detail::last_recorded_t_ns(c, r.id);
-      const auto anchors = detail::run_anchors(c, r.id);
-      const RunAnchor a =
-          anchors.empty() ? RunAnchor{r.id, 0, r.wall_anchor_utc_ns, r.monotonic_anchor_ns, r.clock_factor}
-                          : anchors.back();
+      const detail::CutOff cut =
+          detail::cut_off(r, detail::run_anchors(c, r.id), detail::last_recorded_t_ns(c, r.id));
       Statement u(c, "UPDATE runs SET status = 'interrupted', ended_utc_ns = ? WHERE id = ?");
-      if (last) u.bind(1, utc_ns({a}, a.segment, *last));
+      if (cut.ended_utc_ns) u.bind(1, *cut.ended_utc_ns);
       u.bind(2, r.id).run();
-      EventRecord e;
-      e.run_id = r.id;
-      e.t_ns = last.value_or(a.monotonic_ns);
-      e.kind = "state";
-      e.message = "interrupted: the recording process ended without closing the run (found on open " +
-                  format_utc(wall_clock_ns()) + ")";
-      insert_event(e);
+      insert_event(cut.event);
       interrupted.push_back(r.id);
     }
     t.commit();

@@ -1,9 +1,11 @@
-// What resuming a run means, whichever backend stores it (resume_plan.hpp).
+// What ending and resuming a run mean, whichever backend stores it (resume_plan.hpp).
 #include "resume_plan.hpp"
 
 #include <algorithm>
 
 #include <fmt/format.h>
+
+#include "tocd/core/clock.hpp"
 
 namespace tocd::db::detail {
 
@@ -40,6 +42,21 @@ ResumePoint plan_resume(const RunRecord& run, const std::vector<RunAnchor>& anch
   p.gap_event.data_json = fmt::format(R"({{"gap_from_t_ns":{},"gap_to_t_ns":{},"resumed_utc_ns":{}}})",
                                       p.gap_from_t_ns, p.gap_to_t_ns, wall_ns);
   return p;
+}
+
+CutOff cut_off(const RunRecord& run, const std::vector<RunAnchor>& anchors,
+               std::optional<std::int64_t> last_t_ns) {
+  const RunAnchor a = anchors.empty() ? RunAnchor{run.id, 0, run.wall_anchor_utc_ns, run.monotonic_anchor_ns,
+                                                  run.clock_factor}
+                                      : anchors.back();
+  CutOff c;
+  if (last_t_ns) c.ended_utc_ns = utc_ns({a}, a.segment, *last_t_ns);
+  c.event.run_id = run.id;
+  c.event.t_ns = last_t_ns.value_or(a.monotonic_ns);
+  c.event.kind = "state";
+  c.event.message = "interrupted: the recording process ended without closing the run (found on open " +
+                    format_utc(wall_clock_ns()) + ")";
+  return c;
 }
 
 }  // namespace tocd::db::detail

@@ -1,8 +1,9 @@
 #pragma once
 
-// What resuming a run means, whichever backend stores it: where the new segment's clock starts
-// and the gap event that says so. The backends read the run's last record and anchors, and
-// write the anchor, the status and the event; this decides what they write.
+// What ending and resuming a run mean, whichever backend stores it: a run found cut off gets
+// its end and the event that says so; a resumed one, where its new segment's clock starts and
+// the gap event. The backends read the run's last record and anchors and write what these
+// decide.
 
 #include <cstdint>
 #include <optional>
@@ -19,5 +20,15 @@ namespace tocd::db::detail {
 ResumePoint plan_resume(const RunRecord& run, const std::vector<RunAnchor>& anchors,
                         std::optional<std::int64_t> last_t_ns, int first_incomplete_step, std::int64_t now_ns,
                         std::int64_t wall_ns);
+
+/// A run left `running` by a process that no longer records it, found on opening the store:
+/// when it ended (the UTC of its last record, none when nothing was recorded) and the
+/// `interrupted` event to insert.
+struct CutOff {
+  std::optional<std::int64_t> ended_utc_ns;
+  EventRecord event;
+};
+CutOff cut_off(const RunRecord& run, const std::vector<RunAnchor>& anchors,
+               std::optional<std::int64_t> last_t_ns);
 
 }  // namespace tocd::db::detail

@@ -76,20 +76,10 @@ void PgDatabase::mark_interrupted() {
       release(r.id);
       continue;
     }
-    const auto last = last_recorded_t_ns(c_, r.id);
-    const auto anchors = run_anchors(c_, r.id);
-    const RunAnchor a = anchors.empty()
-                            ? RunAnchor{r.id, 0, r.wall_anchor_utc_ns, r.monotonic_anchor_ns, r.clock_factor}
-                            : anchors.back();
+    const detail::CutOff cut = detail::cut_off(r, run_anchors(c_, r.id), last_recorded_t_ns(c_, r.id));
     c_.query("UPDATE runs SET status = 'interrupted', ended_utc_ns = $1 WHERE id = $2",
-             {last ? Param(utc_ns({a}, a.segment, *last)) : Param(std::nullopt), r.id});
-    EventRecord e;
-    e.run_id = r.id;
-    e.t_ns = last.value_or(a.monotonic_ns);
-    e.kind = "state";
-    e.message = "interrupted: the recording process ended without closing the run (found on open " +
-                format_utc(wall_clock_ns()) + ")";
-    insert_event(e);
+             {cut.ended_utc_ns ? Param(*cut.ended_utc_ns) : Param(std::nullopt), r.id});
+    insert_event(cut.event);
     t.commit();
     release(r.id);
     interrupted_.push_back(r.id);
@@ -172,7 +162,7 @@ ResumePoint PgDatabase::resume_run(std::int64_t run_id, double clock_factor) {
     const std::int64_t now = monotonic_ns();
     const auto wall = wall_clock_ns();
     // As on a file: the gap, the new segment's start and its event (resume_plan.hpp).
-    ResumePoint p = db::detail::plan_resume(r, anchors, last, first_incomplete, now, wall);
+    ResumePoint p = detail::plan_resume(r, anchors, last, first_incomplete, now, wall);
     add_anchor(run_id, wall, p.gap_to_t_ns, clock_factor);
     c_.query("UPDATE runs SET status = 'running', ended_utc_ns = NULL WHERE id = $1", {run_id});
     p.gap_event.id = insert_event(p.gap_event);
