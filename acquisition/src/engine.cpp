@@ -6,37 +6,27 @@
 
 #include "engine_impl.hpp"
 #include "run_opening.hpp"
+#include "tocd/core/enum_names.hpp"
 
 namespace tocd::acquisition {
 
+namespace {
+constexpr std::array<EnumName<EngineState>, 12> kEngineStateNames{{{EngineState::idle, "idle"},
+                                                                   {EngineState::starting, "starting"},
+                                                                   {EngineState::moving, "moving"},
+                                                                   {EngineState::settling, "settling"},
+                                                                   {EngineState::holding, "holding"},
+                                                                   {EngineState::recording, "recording"},
+                                                                   {EngineState::paused, "paused"},
+                                                                   {EngineState::retracting, "retracting"},
+                                                                   {EngineState::completed, "completed"},
+                                                                   {EngineState::aborted, "aborted"},
+                                                                   {EngineState::interrupted, "interrupted"},
+                                                                   {EngineState::failed, "failed"}}};
+}  // namespace
+
 std::string_view to_string(EngineState s) noexcept {
-  switch (s) {
-    case EngineState::idle:
-      return "idle";
-    case EngineState::starting:
-      return "starting";
-    case EngineState::moving:
-      return "moving";
-    case EngineState::settling:
-      return "settling";
-    case EngineState::holding:
-      return "holding";
-    case EngineState::recording:
-      return "recording";
-    case EngineState::paused:
-      return "paused";
-    case EngineState::retracting:
-      return "retracting";
-    case EngineState::completed:
-      return "completed";
-    case EngineState::aborted:
-      return "aborted";
-    case EngineState::interrupted:
-      return "interrupted";
-    case EngineState::failed:
-      return "failed";
-  }
-  return "unknown";
+  return name_of(kEngineStateNames, s);
 }
 
 bool is_terminal(EngineState s) noexcept {

@@ -9,19 +9,17 @@
 #include <toml++/toml.h>
 
 #include "tocd/acquisition/step_plan.hpp"
+#include "tocd/core/enum_names.hpp"
 
 namespace tocd::acquisition {
 
+namespace {
+constexpr std::array<EnumName<StepKind>, 3> kStepKindNames{
+    {{StepKind::displacement, "displacement"}, {StepKind::strain, "strain"}, {StepKind::vacuum, "vacuum"}}};
+}  // namespace
+
 std::string_view to_string(StepKind kind) noexcept {
-  switch (kind) {
-    case StepKind::displacement:
-      return "displacement";
-    case StepKind::strain:
-      return "strain";
-    case StepKind::vacuum:
-      return "vacuum";
-  }
-  return "unknown";
+  return name_of(kStepKindNames, kind);
 }
 
 double Protocol::nominal_duration_s() const {

@@ -179,10 +179,10 @@ void profile_intervals(const Problem& pr, const Eigen::VectorXd& y, double f, do
     });
 }
 
-}  // namespace
-
-ClearingIdentification identify_clearing(const RunHistory& h) {
-  Problem pr{h, {}, {}, {}, {}, {}};
+// The held displacements as knots, and the meter readings within the holds as rows; the
+// contiguous rows of each hold are returned as segments (for the residuals' autocorrelation).
+std::vector<std::pair<std::size_t, std::size_t>> collect_rows(Problem& pr) {
+  const RunHistory& h = pr.h;
   for (const auto& hold : h.holds) pr.knots.push_back(hold.displacement_mm);
   std::sort(pr.knots.begin(), pr.knots.end());
   pr.knots.erase(
@@ -203,34 +203,29 @@ ClearingIdentification identify_clearing(const RunHistory& h) {
     }
     if (pr.rows.size() > first_row) segments.emplace_back(first_row, pr.rows.size() - 1);
   }
-  const std::size_t n_par = pr.knots.size() + 2;
-  if (pr.rows.size() <= n_par)
-    throw Error(
-        fmt::format("run {}: {} transmission readings in the holds for {} unknowns (a power meter "
-                    "recording is needed)",
-                    h.run_id, pr.rows.size(), n_par));
-  Eigen::VectorXd y(static_cast<Eigen::Index>(pr.rows.size()));
-  for (std::size_t r = 0; r < pr.rows.size(); ++r)
-    y(static_cast<Eigen::Index>(r)) = h.transmission[pr.rows[r]];
+  return segments;
+}
 
-  // A meter's noise grows with the light (a relative noise, as most have): each hold gets its
-  // own noise level and its readings are weighed by it. One pooled level would understate the
-  // errors of what the brighter holds determine (the delayed share and its time) and overstate
-  // the rest. The level comes from the differences of successive readings (von Neumann's
-  // estimator: half their mean square is the noise variance when the signal changes slowly
-  // between readings, as a hold's clearing does over 0.1 s), not from a fit's residuals:
-  // residuals of a fit in the wrong valley are large where it misfits, and weights taken from
-  // them would hide that misfit and keep the search there.
-  std::vector<double> diff_sq(h.holds.size(), 0.0), diffs(h.holds.size(), 0.0);
+// A meter's noise grows with the light (a relative noise, as most have): each hold gets its
+// own noise level and its readings are weighed by it. One pooled level would understate the
+// errors of what the brighter holds determine (the delayed share and its time) and overstate
+// the rest. The level comes from the differences of successive readings (von Neumann's
+// estimator: half their mean square is the noise variance when the signal changes slowly
+// between readings, as a hold's clearing does over 0.1 s), not from a fit's residuals:
+// residuals of a fit in the wrong valley are large where it misfits, and weights taken from
+// them would hide that misfit and keep the search there.
+void weigh_by_hold_noise(Problem& pr, const Eigen::VectorXd& y) {
+  const std::size_t holds = pr.h.holds.size();
+  std::vector<double> diff_sq(holds, 0.0), diffs(holds, 0.0);
   for (std::size_t k = 1; k < pr.rows.size(); ++k) {
     if (pr.hold_of[k] != pr.hold_of[k - 1]) continue;
     const double dy = y(static_cast<Eigen::Index>(k)) - y(static_cast<Eigen::Index>(k - 1));
     diff_sq[pr.hold_of[k]] += dy * dy;
     diffs[pr.hold_of[k]] += 1;
   }
-  std::vector<double> hold_sigma(h.holds.size(), 0.0);
+  std::vector<double> hold_sigma(holds, 0.0);
   double largest = 0;
-  for (std::size_t i = 0; i < h.holds.size(); ++i) {
+  for (std::size_t i = 0; i < holds; ++i) {
     hold_sigma[i] = diffs[i] > 0 ? std::sqrt(diff_sq[i] / (2 * diffs[i])) : 0.0;
     largest = std::max(largest, hold_sigma[i]);
   }
@@ -241,54 +236,25 @@ ClearingIdentification identify_clearing(const RunHistory& h) {
     const double sd = hold_sigma[pr.hold_of[k]];
     pr.weight[k] = 1.0 / (sd > 1e-6 * fallback ? sd : fallback);
   }
-  double best_f = 0, best_tau = span_of(h) / 4;
-  const int iterations = search(pr, y, best_f, best_tau);
-  Eigen::VectorXd t_eq;
-  const double rss = projected_cost(pr, y, best_f, best_tau, &t_eq);
+}
 
-  // Jacobian in (f, tau_w, T_eq): the basis for the T_eq, central differences for f and tau_w.
-  const auto nr = static_cast<Eigen::Index>(pr.rows.size());
-  Eigen::MatrixXd jac(nr, static_cast<Eigen::Index>(n_par));
-  const Eigen::MatrixXd b0 = pr.basis(best_f, best_tau);
-  const double hf = 1e-4, ht = 1e-4 * best_tau;
-  jac.col(0) = (pr.basis(std::min(best_f + hf, 1.0), best_tau) * t_eq -
-                pr.basis(std::max(best_f - hf, 0.0), best_tau) * t_eq) /
-               (std::min(best_f + hf, 1.0) - std::max(best_f - hf, 0.0));
-  jac.col(1) = (pr.basis(best_f, best_tau + ht) * t_eq - pr.basis(best_f, best_tau - ht) * t_eq) / (2 * ht);
-  jac.rightCols(static_cast<Eigen::Index>(pr.knots.size())) = b0;
-  const Eigen::VectorXd fitted = b0 * t_eq;
-  const Eigen::VectorXd r = y - fitted;
-  const Eigen::VectorXd w = Eigen::Map<const Eigen::VectorXd>(pr.weight.data(), nr);
-  const Eigen::VectorXd weighted = w.cwiseProduct(r);
+// Jacobian in (f, tau_w, T_eq): the basis for the T_eq, central differences for f and tau_w.
+Eigen::MatrixXd jacobian(const Problem& pr, double f, double tau, const Eigen::VectorXd& t_eq) {
+  Eigen::MatrixXd jac(static_cast<Eigen::Index>(pr.rows.size()),
+                      static_cast<Eigen::Index>(pr.knots.size() + 2));
+  const double hf = 1e-4, ht = 1e-4 * tau;
+  jac.col(0) = (pr.basis(std::min(f + hf, 1.0), tau) * t_eq - pr.basis(std::max(f - hf, 0.0), tau) * t_eq) /
+               (std::min(f + hf, 1.0) - std::max(f - hf, 0.0));
+  jac.col(1) = (pr.basis(f, tau + ht) * t_eq - pr.basis(f, tau - ht) * t_eq) / (2 * ht);
+  jac.rightCols(static_cast<Eigen::Index>(pr.knots.size())) = pr.basis(f, tau);
+  return jac;
+}
 
-  ClearingIdentification out;
-  auto& rep = out.report;
-  rep.observations = pr.rows.size();
-  rep.iterations = iterations;
-  rep.converged = iterations < 21;  // the refinement did not run out of its 20 rounds
-  const double dof = static_cast<double>(pr.rows.size() - n_par);
-  const double sigma2 = rss / dof;  // of the weighted residuals: about 1 when the weights are right
-  rep.noise_sigma = std::sqrt(r.squaredNorm() / dof);
-  rep.residual_rms = std::sqrt(r.squaredNorm() / static_cast<double>(pr.rows.size()));
-  set_autocorrelation(rep, weighted, segments);
-  rep.parameters.push_back({"delayed_clearing", "share of each change of T that waits for the water to drain",
-                            best_f, 0, 0, 0, kShareRange, false, ""});
-  rep.parameters.push_back({"delayed_clearing_time_s", "time constant of the delayed share", best_tau, 0, 0,
-                            0, kTimeRange, false, ""});
-  for (std::size_t j = 0; j < pr.knots.size(); ++j)
-    rep.parameters.push_back({fmt::format("T_eq_at_{:.3f}_mm", pr.knots[j]),
-                              fmt::format("equilibrium transmission at {:.3f} mm", pr.knots[j]),
-                              t_eq(static_cast<Eigen::Index>(j)), 0, 0, 0, kTransmissionRange, false, ""});
-  const Eigen::MatrixXd cov = least_squares_covariance(w.asDiagonal() * jac, sigma2 * rep.variance_inflation);
-  apply_covariance(rep, cov);
-  profile_intervals(pr, y, best_f, best_tau, rss, sigma2 * rep.variance_inflation, rep);
-  out.displacement_mm = pr.knots;
-  out.T_eq.assign(t_eq.data(), t_eq.data() + t_eq.size());
-  const auto nk = static_cast<Eigen::Index>(pr.knots.size());
-  out.T_eq_covariance = cov.bottomRightCorner(nk, nk);
-  out.delayed_clearing = best_f;
-  out.delayed_clearing_time_s = best_tau;
-  const auto means = window_means(h, out, out.T_eq);
+// Each hold's recording window: the measured mean of T with its standard error beside the
+// fitted mean.
+std::vector<ClearingIdentification::Window> windows_of(const RunHistory& h, const ClearingIdentification& c) {
+  const auto means = window_means(h, c, c.T_eq);
+  std::vector<ClearingIdentification::Window> windows;
   for (std::size_t i = 0; i < h.holds.size(); ++i) {
     ClearingIdentification::Window win;
     win.step_index = h.holds[i].step_index;
@@ -310,8 +276,64 @@ ClearingIdentification identify_clearing(const RunHistory& h) {
       win.measured = win.readings ? sum : std::nan("");
       win.measured_se = std::nan("");
     }
-    out.windows.push_back(win);
+    windows.push_back(win);
   }
+  return windows;
+}
+
+}  // namespace
+
+ClearingIdentification identify_clearing(const RunHistory& h) {
+  Problem pr{h, {}, {}, {}, {}, {}};
+  const auto segments = collect_rows(pr);
+  const std::size_t n_par = pr.knots.size() + 2;
+  if (pr.rows.size() <= n_par)
+    throw Error(
+        fmt::format("run {}: {} transmission readings in the holds for {} unknowns (a power meter "
+                    "recording is needed)",
+                    h.run_id, pr.rows.size(), n_par));
+  Eigen::VectorXd y(static_cast<Eigen::Index>(pr.rows.size()));
+  for (std::size_t r = 0; r < pr.rows.size(); ++r)
+    y(static_cast<Eigen::Index>(r)) = h.transmission[pr.rows[r]];
+  weigh_by_hold_noise(pr, y);
+  double best_f = 0, best_tau = span_of(h) / 4;
+  const int iterations = search(pr, y, best_f, best_tau);
+  Eigen::VectorXd t_eq;
+  const double rss = projected_cost(pr, y, best_f, best_tau, &t_eq);
+
+  const auto nr = static_cast<Eigen::Index>(pr.rows.size());
+  const Eigen::MatrixXd jac = jacobian(pr, best_f, best_tau, t_eq);
+  const Eigen::VectorXd r = y - pr.basis(best_f, best_tau) * t_eq;
+  const Eigen::VectorXd w = Eigen::Map<const Eigen::VectorXd>(pr.weight.data(), nr);
+
+  ClearingIdentification out;
+  auto& rep = out.report;
+  rep.observations = pr.rows.size();
+  rep.iterations = iterations;
+  rep.converged = iterations < 21;  // the refinement did not run out of its 20 rounds
+  const double dof = static_cast<double>(pr.rows.size() - n_par);
+  const double sigma2 = rss / dof;  // of the weighted residuals: about 1 when the weights are right
+  rep.noise_sigma = std::sqrt(r.squaredNorm() / dof);
+  rep.residual_rms = std::sqrt(r.squaredNorm() / static_cast<double>(pr.rows.size()));
+  set_autocorrelation(rep, w.cwiseProduct(r), segments);
+  rep.parameters.push_back({"delayed_clearing", "share of each change of T that waits for the water to drain",
+                            best_f, 0, 0, 0, kShareRange, false, ""});
+  rep.parameters.push_back({"delayed_clearing_time_s", "time constant of the delayed share", best_tau, 0, 0,
+                            0, kTimeRange, false, ""});
+  for (std::size_t j = 0; j < pr.knots.size(); ++j)
+    rep.parameters.push_back({fmt::format("T_eq_at_{:.3f}_mm", pr.knots[j]),
+                              fmt::format("equilibrium transmission at {:.3f} mm", pr.knots[j]),
+                              t_eq(static_cast<Eigen::Index>(j)), 0, 0, 0, kTransmissionRange, false, ""});
+  const Eigen::MatrixXd cov = least_squares_covariance(w.asDiagonal() * jac, sigma2 * rep.variance_inflation);
+  apply_covariance(rep, cov);
+  profile_intervals(pr, y, best_f, best_tau, rss, sigma2 * rep.variance_inflation, rep);
+  out.displacement_mm = pr.knots;
+  out.T_eq.assign(t_eq.data(), t_eq.data() + t_eq.size());
+  const auto nk = static_cast<Eigen::Index>(pr.knots.size());
+  out.T_eq_covariance = cov.bottomRightCorner(nk, nk);
+  out.delayed_clearing = best_f;
+  out.delayed_clearing_time_s = best_tau;
+  out.windows = windows_of(h, out);
   return out;
 }
 

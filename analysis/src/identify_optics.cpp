@@ -154,49 +154,53 @@ Eigen::Vector4d clamp_to_ranges(Eigen::Vector4d theta) {
   return theta;
 }
 
-}  // namespace
+// The generalised least-squares weights of an evaluation: the inverse of the T_eq's covariance
+// plus the Monte Carlo variances of the model.
+Eigen::MatrixXd weights_of(const ClearingIdentification& clearing, const Evaluation& ev) {
+  Eigen::MatrixXd c = clearing.T_eq_covariance;
+  c.diagonal() += ev.se.cwiseProduct(ev.se);
+  return c.inverse();
+}
 
-OpticsIdentification identify_optics(const RunHistory& history, const ClearingIdentification& clearing,
-                                     double stiffness_scale, const OpticsOptions& options) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const auto nk = static_cast<Eigen::Index>(clearing.displacement_mm.size());
-  if (nk < kParameters)
-    throw Error(fmt::format("run {}: {} held displacements for {} optical parameters", history.run_id, nk,
-                            kParameters));
+struct Fitted {
+  Eigen::Vector4d theta;
+  Evaluation e;
+  int iterations = 0;
+  bool converged = false;
+};
+
+// Levenberg-Marquardt from the published most cleared state (the model note's simulation 11).
+// A trial step is kept only when it lowers the cost; with the same seed at every evaluation
+// (common random numbers) the cost is a smooth function of the parameters, so the comparison
+// is not lost in the Monte Carlo noise. Plain Gauss-Newton steps overshot on the demo run
+// (mu_a and mu_s trade off, correlation -0.99) and wandered off to chi^2 of 170 for 3 dof.
+Fitted levenberg_marquardt(Model& model, const ClearingIdentification& clearing,
+                           const OpticsOptions& options) {
   auto say = [&](const std::string& line) {
     if (options.progress) options.progress(line);
   };
-  Model model(history, clearing.displacement_mm, stiffness_scale, options);
+  const auto nk = static_cast<Eigen::Index>(clearing.T_eq.size());
   const Eigen::VectorXd y = Eigen::Map<const Eigen::VectorXd>(clearing.T_eq.data(), nk);
-  // The generalised least-squares cost of an evaluation: the T_eq's covariance plus the
-  // Monte Carlo variances of the model.
   auto chi2_of = [&](const Evaluation& ev) {
     Eigen::MatrixXd c = clearing.T_eq_covariance;
     c.diagonal() += ev.se.cwiseProduct(ev.se);
     const Eigen::VectorXd r = y - ev.T;
     return r.dot(c.ldlt().solve(r));
   };
-  // Levenberg-Marquardt from the published most cleared state (the model note's simulation 11).
-  // A trial step is kept only when it lowers the cost; with the same seed at every evaluation
-  // (common random numbers) the cost is a smooth function of the parameters, so the comparison
-  // is not lost in the Monte Carlo noise. Plain Gauss-Newton steps overshot on the demo run
-  // (mu_a and mu_s trade off, correlation -0.99) and wandered off to chi^2 of 170 for 3 dof.
-  Eigen::Vector4d theta(0.6, 0.6, 1.1, 0.5);
-  Evaluation e = model.evaluate(theta);
-  double cost = chi2_of(e);
+  Fitted f{Eigen::Vector4d(0.6, 0.6, 1.1, 0.5), {}, 0, false};
+  Eigen::Vector4d& theta = f.theta;
+  f.e = model.evaluate(theta);
+  double cost = chi2_of(f.e);
   say(fmt::format(
       "optics: start at mu_a x{:.3f}, mu_s x{:.3f}, n x{:.4f}, full clearing at log strain {:.3f}: "
       "chi2 {:.3g}",
       theta(0), theta(1), theta(2), theta(3), cost));
   double lambda = 1e-2;
   int iteration = 0;
-  bool converged = false;
   for (iteration = 1; iteration <= options.max_iterations; ++iteration) {
-    Eigen::MatrixXd c = clearing.T_eq_covariance;
-    c.diagonal() += e.se.cwiseProduct(e.se);
-    const Eigen::MatrixXd w = c.inverse();
-    const Eigen::MatrixXd info = e.jacobian.transpose() * w * e.jacobian;
-    const Eigen::VectorXd g = e.jacobian.transpose() * w * (y - e.T);
+    const Eigen::MatrixXd w = weights_of(clearing, f.e);
+    const Eigen::MatrixXd info = f.e.jacobian.transpose() * w * f.e.jacobian;
+    const Eigen::VectorXd g = f.e.jacobian.transpose() * w * (y - f.e.T);
     Eigen::MatrixXd damped = info;
     damped.diagonal() += lambda * info.diagonal().cwiseMax(1e-30);
     const Eigen::Vector4d next = clamp_to_ranges(theta + Eigen::Vector4d(damped.ldlt().solve(g)));
@@ -214,42 +218,25 @@ OpticsIdentification identify_optics(const RunHistory& history, const ClearingId
     const Eigen::VectorXd se = info.inverse().diagonal().cwiseMax(0).cwiseSqrt();
     const bool small = ((next - theta).cwiseAbs().array() <= 0.2 * se.array()).all();
     theta = next;
-    e = model.evaluate(theta);
-    cost = chi2_of(e);
+    f.e = model.evaluate(theta);
+    cost = chi2_of(f.e);
     lambda = std::max(lambda / 10, 1e-6);
     if (small) {
-      converged = true;
+      f.converged = true;
       break;
     }
   }
+  f.iterations = std::min(iteration, options.max_iterations);
+  return f;
+}
 
-  Eigen::MatrixXd c = clearing.T_eq_covariance;
-  c.diagonal() += e.se.cwiseProduct(e.se);
-  const Eigen::MatrixXd w = c.inverse();
-  const Eigen::VectorXd r = y - e.T;
-  OpticsIdentification out;
-  out.chi2 = r.dot(w * r);
-  out.dof = static_cast<int>(nk) - kParameters;
-  const double birge = out.dof > 0 ? std::max(1.0, out.chi2 / out.dof) : 1.0;
-  const double z = out.dof > 0 ? t_quantile_975(out.dof) : 1.959963984540054;
-  auto& rep = out.report;
-  rep.observations = static_cast<std::size_t>(nk);
-  rep.iterations = std::min(iteration, options.max_iterations);
-  rep.converged = converged;
-  rep.residual_rms = std::sqrt(r.squaredNorm() / static_cast<double>(nk));
-  rep.noise_sigma = std::sqrt(birge);  // in units of the known errors
-  for (int k = 0; k < kParameters; ++k)
-    rep.parameters.push_back({kNames[k], kDescriptions[k], theta(k), 0, 0, 0, kRanges[k], false, ""});
-  // Covariance of the generalised least squares: (J^T W J)^-1, through the scaled inverse that
-  // leaves out what the data do not see (a Cholesky factor of W turns it into ordinary LS).
-  const Eigen::MatrixXd l = Eigen::LLT<Eigen::MatrixXd>(w).matrixU();
-  const Eigen::MatrixXd covariance = least_squares_covariance(l * e.jacobian, birge);
-  apply_covariance(rep, covariance, z);
-
-  out.displacement_mm = clearing.displacement_mm;
-  out.T_eq = clearing.T_eq;
-  out.T_model.assign(e.T.data(), e.T.data() + e.T.size());
-  out.T_model_se.assign(e.se.data(), e.se.data() + e.se.size());
+// Each held step's measured T beside the model's window mean, its Monte Carlo error and the
+// band of the parameters' covariance (multiplier z).
+std::vector<OpticsIdentification::Step> steps_of(const RunHistory& history,
+                                                 const ClearingIdentification& clearing,
+                                                 const OpticsIdentification& out, const Evaluation& e,
+                                                 const Eigen::MatrixXd& covariance, double z) {
+  const auto nk = static_cast<Eigen::Index>(clearing.T_eq.size());
   const auto predicted = window_means(history, clearing, out.T_model);
   // The window means are linear in the knots' T: each parameter's derivative carries over the
   // same way, and with it the band (parameters the run does not determine add nothing here:
@@ -260,6 +247,7 @@ OpticsIdentification identify_optics(const RunHistory& history, const ClearingId
     const auto dk = window_means(history, clearing, std::vector<double>(column.data(), column.data() + nk));
     for (std::size_t i = 0; i < dk.size(); ++i) window_jacobian(static_cast<Eigen::Index>(i), k) = dk[i];
   }
+  std::vector<OpticsIdentification::Step> steps;
   for (std::size_t i = 0; i < clearing.windows.size(); ++i) {
     OpticsIdentification::Step s;
     s.step_index = clearing.windows[i].step_index;
@@ -277,8 +265,50 @@ OpticsIdentification identify_optics(const RunHistory& history, const ClearingId
     const double spread = z * std::sqrt(std::max(0.0, (gradient * covariance * gradient.transpose())(0, 0)));
     s.band_lo = s.predicted_T - spread;
     s.band_hi = s.predicted_T + spread;
-    out.steps.push_back(s);
+    steps.push_back(s);
   }
+  return steps;
+}
+
+}  // namespace
+
+OpticsIdentification identify_optics(const RunHistory& history, const ClearingIdentification& clearing,
+                                     double stiffness_scale, const OpticsOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto nk = static_cast<Eigen::Index>(clearing.displacement_mm.size());
+  if (nk < kParameters)
+    throw Error(fmt::format("run {}: {} held displacements for {} optical parameters", history.run_id, nk,
+                            kParameters));
+  Model model(history, clearing.displacement_mm, stiffness_scale, options);
+  const Fitted fit = levenberg_marquardt(model, clearing, options);
+  const Evaluation& e = fit.e;
+
+  const Eigen::MatrixXd w = weights_of(clearing, e);
+  const Eigen::VectorXd r = Eigen::Map<const Eigen::VectorXd>(clearing.T_eq.data(), nk) - e.T;
+  OpticsIdentification out;
+  out.chi2 = r.dot(w * r);
+  out.dof = static_cast<int>(nk) - kParameters;
+  const double birge = out.dof > 0 ? std::max(1.0, out.chi2 / out.dof) : 1.0;
+  const double z = out.dof > 0 ? t_quantile_975(out.dof) : 1.959963984540054;
+  auto& rep = out.report;
+  rep.observations = static_cast<std::size_t>(nk);
+  rep.iterations = fit.iterations;
+  rep.converged = fit.converged;
+  rep.residual_rms = std::sqrt(r.squaredNorm() / static_cast<double>(nk));
+  rep.noise_sigma = std::sqrt(birge);  // in units of the known errors
+  for (int k = 0; k < kParameters; ++k)
+    rep.parameters.push_back({kNames[k], kDescriptions[k], fit.theta(k), 0, 0, 0, kRanges[k], false, ""});
+  // Covariance of the generalised least squares: (J^T W J)^-1, through the scaled inverse that
+  // leaves out what the data do not see (a Cholesky factor of W turns it into ordinary LS).
+  const Eigen::MatrixXd l = Eigen::LLT<Eigen::MatrixXd>(w).matrixU();
+  const Eigen::MatrixXd covariance = least_squares_covariance(l * e.jacobian, birge);
+  apply_covariance(rep, covariance, z);
+
+  out.displacement_mm = clearing.displacement_mm;
+  out.T_eq = clearing.T_eq;
+  out.T_model.assign(e.T.data(), e.T.data() + e.T.size());
+  out.T_model_se.assign(e.se.data(), e.se.data() + e.se.size());
+  out.steps = steps_of(history, clearing, out, e, covariance, z);
   out.monte_carlo_runs = model.runs;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;

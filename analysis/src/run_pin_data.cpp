@@ -8,18 +8,23 @@
 
 #include "tocd/analysis/run_history.hpp"
 #include "tocd/analysis/run_stress_strain.hpp"
+#include "tocd/core/enum_names.hpp"
 #include "tocd/core/error.hpp"
 
 namespace tocd::analysis {
 
+namespace {
+constexpr std::array<EnumName<RunLoadPoints>, 2> kLoadPointNames{
+    {{RunLoadPoints::held, "held"}, {RunLoadPoints::loading, "loading"}}};
+}  // namespace
+
 RunLoadPoints parse_run_load_points(const std::string& s) {
-  if (s == "held") return RunLoadPoints::held;
-  if (s == "loading") return RunLoadPoints::loading;
-  throw ConfigError(fmt::format("load points '{}': expected held or loading", s));
+  if (const auto p = value_of(kLoadPointNames, s)) return *p;
+  throw ConfigError(fmt::format("load points '{}': expected {}", s, name_list(kLoadPointNames)));
 }
 
 const char* to_string(RunLoadPoints p) {
-  return p == RunLoadPoints::held ? "held" : "loading";
+  return name_of(kLoadPointNames, p).data();  // the table's names are literals
 }
 
 namespace {

@@ -131,6 +131,90 @@ MeasuredT measured_T_between(const db::Reader& reader, std::int64_t power_channe
   return {s.mean() / baseline_power_W, se / baseline_power_W, s.n()};
 }
 
+namespace {
+
+// The biphasic request along the run's displacement history; its time points are added by
+// add_points.
+st::WaterHistoryRequest water_request(const RunWaterCourse& out, const RunWaterCourseOptions& o) {
+  st::WaterHistoryRequest req;
+  req.history = out.history.history;
+  req.thickness_mm = out.thickness_mm;
+  req.pin_radius_mm = o.pin_radius_mm;
+  req.drained_poisson = o.drained_poisson;
+  req.permeability.k0_mm4_per_Ns = o.k0_mm4_per_Ns;
+  req.fe_budget_s = o.fe_budget_s;
+  req.photons = o.photons;
+  req.seed = o.seed;
+  req.threads = o.threads;
+  req.mesh_preset = o.mesh_preset;
+  return req;
+}
+
+// Each step's time points (out.options.points_per_hold, spread over its recording window) with
+// the measured T averaged around each; their times go to the request.
+void add_points(const db::Reader& reader, const std::vector<db::StepRecord>& steps,
+                std::int64_t power_channel, double baseline_power_W, RunWaterCourse& out,
+                st::WaterHistoryRequest& req) {
+  const RunWaterCourseOptions& o = out.options;
+  const std::int64_t half = static_cast<std::int64_t>(0.5 * o.window_s * 1e9);
+  const double t_end = req.history.t_s.back();
+  for (const auto& s : steps) {
+    WaterCourseStep ws;
+    ws.index = s.index;
+    ws.target_displacement_mm = s.target_displacement_mm;
+    ws.window_from_s = seconds_between(out.history.t0_ns, s.recorded_from_t_ns);
+    ws.window_to_s = seconds_between(out.history.t0_ns, s.recorded_to_t_ns);
+    const std::int64_t a = s.recorded_from_t_ns + half, b = s.recorded_to_t_ns - half;
+    // Points closer than an averaging window would share their samples: one, in the middle.
+    const int n = b - a >= 2 * half ? o.points_per_hold : 1;
+    for (int k = 0; k < n; ++k) {
+      const std::int64_t at = n == 1
+                                  ? (s.recorded_from_t_ns + s.recorded_to_t_ns) / 2
+                                  : a + static_cast<std::int64_t>(static_cast<double>(b - a) * k / (n - 1));
+      const double ts = seconds_between(out.history.t0_ns, at);
+      // A window before the first displacement sample has no pin history to model.
+      if (ts < 0 || ts > t_end) continue;
+      if (!req.times_s.empty() && !(ts > req.times_s.back())) continue;  // overlapping windows
+      WaterCoursePoint p;
+      p.t_s = ts;
+      p.t_window_s = seconds_between(s.recorded_from_t_ns, at);
+      p.measured = measured_T_between(reader, power_channel, baseline_power_W,
+                                      std::max(s.recorded_from_t_ns, at - half),
+                                      std::min(s.recorded_to_t_ns, at + half));
+      req.times_s.push_back(ts);
+      ws.points.push_back(p);
+    }
+    out.steps.push_back(std::move(ws));
+  }
+}
+
+// The predicted points, in the order their times were requested, relative to the glass-only
+// baseline.
+void fill_predictions(RunWaterCourse& out, const std::vector<st::WaterHistoryPoint>& predicted,
+                      const st::Prediction& base) {
+  std::size_t k = 0;
+  for (auto& ws : out.steps)
+    for (auto& p : ws.points) {
+      const auto& q = predicted.at(k++);
+      p.displacement_mm = q.displacement_mm;
+      p.computed = q.computed;
+      p.failure = q.failure;
+      p.pin_force_N = q.pin_force_N;
+      p.water_outflow_mm3 = q.water_outflow_mm3;
+      p.fe_seconds = q.fe_seconds;
+      p.mesh_seconds = q.mesh_seconds;
+      p.mc_seconds = q.mc_seconds;
+      if (q.computed) {
+        p.T = q.T / base.T;
+        p.T_se = p.T * std::hypot(q.T_stderr / q.T, base.T_stderr / base.T);
+      } else {
+        p.T = p.T_se = kNaN;
+      }
+    }
+}
+
+}  // namespace
+
 RunWaterCourse run_water_course(const db::Reader& reader, std::int64_t run_id,
                                 const RunWaterCourseOptions& o) {
   const auto start = std::chrono::steady_clock::now();
@@ -165,47 +249,8 @@ RunWaterCourse run_water_course(const db::Reader& reader, std::int64_t run_id,
                   out.history.history.t_s.size(), out.history.samples, o.tolerance_mm,
                   out.history.history.t_s.back()));
 
-  st::WaterHistoryRequest req;
-  req.history = out.history.history;
-  req.thickness_mm = out.thickness_mm;
-  req.pin_radius_mm = o.pin_radius_mm;
-  req.drained_poisson = o.drained_poisson;
-  req.permeability.k0_mm4_per_Ns = o.k0_mm4_per_Ns;
-  req.fe_budget_s = o.fe_budget_s;
-  req.photons = o.photons;
-  req.seed = o.seed;
-  req.threads = o.threads;
-  req.mesh_preset = o.mesh_preset;
-  const std::int64_t half = static_cast<std::int64_t>(0.5 * o.window_s * 1e9);
-  const double t_end = req.history.t_s.back();
-  for (const auto& s : steps) {
-    WaterCourseStep ws;
-    ws.index = s.index;
-    ws.target_displacement_mm = s.target_displacement_mm;
-    ws.window_from_s = seconds_between(out.history.t0_ns, s.recorded_from_t_ns);
-    ws.window_to_s = seconds_between(out.history.t0_ns, s.recorded_to_t_ns);
-    const std::int64_t a = s.recorded_from_t_ns + half, b = s.recorded_to_t_ns - half;
-    // Points closer than an averaging window would share their samples: one, in the middle.
-    const int n = b - a >= 2 * half ? o.points_per_hold : 1;
-    for (int k = 0; k < n; ++k) {
-      const std::int64_t at = n == 1
-                                  ? (s.recorded_from_t_ns + s.recorded_to_t_ns) / 2
-                                  : a + static_cast<std::int64_t>(static_cast<double>(b - a) * k / (n - 1));
-      const double ts = seconds_between(out.history.t0_ns, at);
-      // A window before the first displacement sample has no pin history to model.
-      if (ts < 0 || ts > t_end) continue;
-      if (!req.times_s.empty() && !(ts > req.times_s.back())) continue;  // overlapping windows
-      WaterCoursePoint p;
-      p.t_s = ts;
-      p.t_window_s = seconds_between(s.recorded_from_t_ns, at);
-      p.measured = measured_T_between(reader, power->id, run.baseline_power_W,
-                                      std::max(s.recorded_from_t_ns, at - half),
-                                      std::min(s.recorded_to_t_ns, at + half));
-      req.times_s.push_back(ts);
-      ws.points.push_back(p);
-    }
-    out.steps.push_back(std::move(ws));
-  }
+  st::WaterHistoryRequest req = water_request(out, o);
+  add_points(reader, steps, power->id, run.baseline_power_W, out, req);
   if (req.times_s.empty())
     throw tocd::Error(fmt::format("run {}: no recording window lies within the displacement record", run_id));
 
@@ -217,25 +262,7 @@ RunWaterCourse run_water_course(const db::Reader& reader, std::int64_t run_id,
   if (o.point_progress) req.progress = o.point_progress;
   say(fmt::format("biphasic FE along the run, {} time points (mesh + Monte Carlo each)", req.times_s.size()));
   const auto predicted = st::predict_water_history(req);
-  std::size_t k = 0;
-  for (auto& ws : out.steps)
-    for (auto& p : ws.points) {
-      const auto& q = predicted.at(k++);
-      p.displacement_mm = q.displacement_mm;
-      p.computed = q.computed;
-      p.failure = q.failure;
-      p.pin_force_N = q.pin_force_N;
-      p.water_outflow_mm3 = q.water_outflow_mm3;
-      p.fe_seconds = q.fe_seconds;
-      p.mesh_seconds = q.mesh_seconds;
-      p.mc_seconds = q.mc_seconds;
-      if (q.computed) {
-        p.T = q.T / base.T;
-        p.T_se = p.T * std::hypot(q.T_stderr / q.T, base.T_stderr / base.T);
-      } else {
-        p.T = p.T_se = kNaN;
-      }
-    }
+  fill_predictions(out, predicted, base);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }

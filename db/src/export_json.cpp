@@ -42,32 +42,9 @@ json parsed_or_text(const std::string& text) {
   return j.is_discarded() ? json(text) : j;
 }
 
-}  // namespace
-
-void write_json(const Reader& reader, std::int64_t run_id, const JsonExportOptions& opt, std::ostream& out) {
-  const RunRecord run = reader.run(run_id);
-  json doc;
-  doc["format"] = "tocdlab-run";
-  doc["format_version"] = 2;  // 2: 1-based steps, *_se names, segments, run metadata
-  doc["run"] = run_json(run);
-  if (run.sample_id != 0) {
-    if (auto sp = reader.sample(run.sample_id))
-      doc["sample"] = {{"id", sp->id},
-                       {"name", sp->name},
-                       {"tissue", sp->tissue},
-                       {"thickness_mm", sp->thickness_mm},
-                       {"notes", sp->notes}};
-  }
-  const auto run_anchors = reader.anchors(run_id);
-  json anchors = json::array();
-  for (const auto& a : run_anchors)
-    anchors.push_back({{"segment", a.segment},
-                       {"wall_utc_ns", a.wall_utc_ns},
-                       {"monotonic_ns", a.monotonic_ns},
-                       {"clock_factor", a.clock_factor}});
-  doc["anchors"] = anchors;
-
-  json instruments = json::array();
+// Each channel with its instrument (listed once in `instruments`) and, when asked, its samples.
+json channels_json(const Reader& reader, std::int64_t run_id, const JsonExportOptions& opt,
+                   json& instruments) {
   json channels = json::array();
   for (const auto& ch : reader.channels(run_id)) {
     json c = {{"id", ch.id}, {"name", ch.name}, {"unit", ch.unit}, {"nominal_rate_Hz", ch.nominal_rate_Hz}};
@@ -102,9 +79,10 @@ void write_json(const Reader& reader, std::int64_t run_id, const JsonExportOptio
     }
     channels.push_back(std::move(c));
   }
-  doc["instruments"] = instruments;
-  doc["channels"] = channels;
+  return channels;
+}
 
+json steps_json(const Reader& reader, std::int64_t run_id) {
   json steps = json::array();
   for (const auto& row : reader.compare(run_id)) {
     const StepRecord& s = row.step;
@@ -127,8 +105,10 @@ void write_json(const Reader& reader, std::int64_t run_id, const JsonExportOptio
               {"relative_difference", row.relative_difference}};
     steps.push_back(std::move(j));
   }
-  doc["steps"] = steps;
+  return steps;
+}
 
+json events_json(const Reader& reader, std::int64_t run_id, const std::vector<RunAnchor>& run_anchors) {
   json events = json::array();
   for (const auto& e : reader.events(run_id)) {
     events.push_back({{"t_ns", e.t_ns},
@@ -139,8 +119,10 @@ void write_json(const Reader& reader, std::int64_t run_id, const JsonExportOptio
                       {"message", e.message},
                       {"data", parsed_or_text(e.data_json)}});
   }
-  doc["events"] = events;
+  return events;
+}
 
+json predictions_json(const Reader& reader, std::int64_t run_id) {
   json predictions = json::array();
   for (const auto& p : reader.predictions(run_id)) {
     predictions.push_back({{"id", p.id},
@@ -156,7 +138,40 @@ void write_json(const Reader& reader, std::int64_t run_id, const JsonExportOptio
                            {"config", parsed_or_text(p.config_json)},
                            {"summary", parsed_or_text(p.summary_json)}});
   }
-  doc["predictions"] = predictions;
+  return predictions;
+}
+
+}  // namespace
+
+void write_json(const Reader& reader, std::int64_t run_id, const JsonExportOptions& opt, std::ostream& out) {
+  const RunRecord run = reader.run(run_id);
+  json doc;
+  doc["format"] = "tocdlab-run";
+  doc["format_version"] = 2;  // 2: 1-based steps, *_se names, segments, run metadata
+  doc["run"] = run_json(run);
+  if (run.sample_id != 0) {
+    if (auto sp = reader.sample(run.sample_id))
+      doc["sample"] = {{"id", sp->id},
+                       {"name", sp->name},
+                       {"tissue", sp->tissue},
+                       {"thickness_mm", sp->thickness_mm},
+                       {"notes", sp->notes}};
+  }
+  const auto run_anchors = reader.anchors(run_id);
+  json anchors = json::array();
+  for (const auto& a : run_anchors)
+    anchors.push_back({{"segment", a.segment},
+                       {"wall_utc_ns", a.wall_utc_ns},
+                       {"monotonic_ns", a.monotonic_ns},
+                       {"clock_factor", a.clock_factor}});
+  doc["anchors"] = anchors;
+  json instruments = json::array();
+  json channels = channels_json(reader, run_id, opt, instruments);
+  doc["instruments"] = instruments;
+  doc["channels"] = std::move(channels);
+  doc["steps"] = steps_json(reader, run_id);
+  doc["events"] = events_json(reader, run_id, run_anchors);
+  doc["predictions"] = predictions_json(reader, run_id);
   // Text in the file may predate the printable_text cleaning at the instrument drivers (or the
   // file came from elsewhere): invalid UTF-8 becomes U+FFFD instead of failing the export.
   out << doc.dump(opt.indent, ' ', false, json::error_handler_t::replace) << '\n';

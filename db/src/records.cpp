@@ -3,29 +3,26 @@
 #include <cmath>
 #include <string>
 
+#include "tocd/core/enum_names.hpp"
 #include "tocd/db/database.hpp"
 
 namespace tocd::db {
 
+namespace {
+constexpr std::array<EnumName<RunStatus>, 4> kRunStatusNames{{{RunStatus::running, "running"},
+                                                              {RunStatus::completed, "completed"},
+                                                              {RunStatus::aborted, "aborted"},
+                                                              {RunStatus::interrupted, "interrupted"}}};
+}  // namespace
+
 std::string_view to_string(RunStatus status) noexcept {
-  switch (status) {
-    case RunStatus::running:
-      return "running";
-    case RunStatus::completed:
-      return "completed";
-    case RunStatus::aborted:
-      return "aborted";
-    case RunStatus::interrupted:
-      return "interrupted";
-  }
-  return "unknown";
+  return name_of(kRunStatusNames, status);
 }
 
 RunStatus run_status_from_string(std::string_view text) {
-  for (auto s : {RunStatus::running, RunStatus::completed, RunStatus::aborted, RunStatus::interrupted})
-    if (to_string(s) == text) return s;
-  throw DatabaseError("unknown run status '" + std::string(text) +
-                      "' (expected running, completed, aborted or interrupted)");
+  if (const auto s = value_of(kRunStatusNames, text)) return *s;
+  throw DatabaseError("unknown run status '" + std::string(text) + "' (expected " +
+                      name_list(kRunStatusNames) + ")");
 }
 
 std::int64_t utc_ns(const std::vector<RunAnchor>& anchors, int segment, std::int64_t t_ns) noexcept {

@@ -99,6 +99,34 @@ TEST(DbRecords, InstrumentsAreUpsertedBySerialAndSpecimensStored) {
   EXPECT_EQ(rd.run(db.create_run(nr).id).sample_id, sp);
 }
 
+// The first step of a run, completed, with both channels' statistics.
+StepRecord completed_step(std::int64_t run, std::int64_t load, std::int64_t power) {
+  return {.run_id = run,
+          .index = 0,
+          .target_displacement_mm = 0.25,
+          .nominal_strain = 0.1,
+          .started_t_ns = 100,
+          .settled_t_ns = 200,
+          .recorded_from_t_ns = 300,
+          .recorded_to_t_ns = 400,
+          .measured_transmission = 0.4125,
+          .channels = {{load, 1.5, 0.01, 1000}, {power, 5.1e-4, 1e-6, 10}}};
+}
+
+PredictionRecord first_step_prediction(std::int64_t run) {
+  return {.run_id = run,
+          .step_index = 0,
+          .config_json = R"({"photons":100000,"seed":1})",
+          .T = 0.40,
+          .T_stderr = 0.004,
+          .fe_seconds = 1.5,
+          .mesh_seconds = 0.5,
+          .mc_seconds = 3.0,
+          .total_seconds = 5.0,
+          .software_version = {},  // this build's
+          .summary_json = R"({"tets":12345})"};
+}
+
 TEST(DbRecords, ChannelsStepsEventsPredictionsRoundTrip) {
   TestDatabase dir;
   Database db(dir.location());
@@ -110,17 +138,7 @@ TEST(DbRecords, ChannelsStepsEventsPredictionsRoundTrip) {
   EXPECT_THROW(db.add_channel({0, run.id, "load", "N", 0, 1.0}), DatabaseError);  // duplicate name
   EXPECT_THROW(db.add_channel({0, 777, "x", "", 0, 1.0}), DatabaseError);         // no such run
 
-  StepRecord st;
-  st.run_id = run.id;
-  st.index = 0;
-  st.target_displacement_mm = 0.25;
-  st.nominal_strain = 0.1;
-  st.started_t_ns = 100;
-  st.settled_t_ns = 200;
-  st.recorded_from_t_ns = 300;
-  st.recorded_to_t_ns = 400;
-  st.measured_transmission = 0.4125;
-  st.channels = {{load.id, 1.5, 0.01, 1000}, {power.id, 5.1e-4, 1e-6, 10}};
+  const StepRecord st = completed_step(run.id, load.id, power.id);
   db.add_step(st);
   // Unset doubles (NaN) come back NaN, not 0.
   StepRecord st1 = st;
@@ -134,17 +152,7 @@ TEST(DbRecords, ChannelsStepsEventsPredictionsRoundTrip) {
   db.add_event(ev);
   db.add_event({0, run.id, 50, "state", "running", -1, ""});
 
-  PredictionRecord p;
-  p.run_id = run.id;
-  p.step_index = 0;
-  p.config_json = R"({"photons":100000,"seed":1})";
-  p.T = 0.40;
-  p.T_stderr = 0.004;
-  p.fe_seconds = 1.5;
-  p.mesh_seconds = 0.5;
-  p.mc_seconds = 3.0;
-  p.total_seconds = 5.0;
-  p.summary_json = R"({"tets":12345})";
+  const PredictionRecord p = first_step_prediction(run.id);
   db.add_prediction(p);
 
   Reader rd(dir.location());

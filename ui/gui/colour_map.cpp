@@ -5,37 +5,18 @@
 #include <cmath>
 #include <limits>
 
+#include "tocd/plot/figures.hpp"
+
 namespace tocd::gui {
-
-namespace {
-
-// Anchor colours of a viridis-like ramp; interpolated linearly between anchors.
-constexpr std::array<std::array<int, 3>, 9> kRamp{{{68, 1, 84},
-                                                   {71, 44, 122},
-                                                   {59, 81, 139},
-                                                   {44, 113, 142},
-                                                   {33, 144, 141},
-                                                   {39, 173, 129},
-                                                   {92, 200, 99},
-                                                   {170, 220, 50},
-                                                   {253, 231, 37}}};
-
-}  // namespace
 
 FluenceMapPair::FluenceMapPair(QWidget* parent) : QWidget(parent) {
   setMinimumSize(420, 220);
 }
 
+// The figures' ramp (tocdlab plot): a map on screen and its picture share their colours.
 QColor FluenceMapPair::ramp(double t) {
-  if (!std::isfinite(t)) t = 0.0;
-  t = std::clamp(t, 0.0, 1.0);
-  const double pos = t * (kRamp.size() - 1);
-  const auto i = std::min(static_cast<std::size_t>(pos), kRamp.size() - 2);
-  const double f = pos - static_cast<double>(i);
-  auto mix = [&](int c) {
-    return static_cast<int>(std::lround(kRamp[i][c] + f * (kRamp[i + 1][c] - kRamp[i][c])));
-  };
-  return {mix(0), mix(1), mix(2)};
+  const tocd::plot::Rgb c = tocd::plot::fluence_ramp(t);
+  return {c.r, c.g, c.b};
 }
 
 void FluenceMapPair::set_dynamic_range_decades(double decades) {

@@ -6,24 +6,22 @@
 #include "pg_schema.hpp"
 #include "pg_util.hpp"
 #include "tocd/core/clock.hpp"
+#include "tocd/core/enum_names.hpp"
 #include "tocd/db/location.hpp"
 #include "tocd/db/push.hpp"
 #include "tocd/db/reader.hpp"
 
 namespace tocd::db {
 
+namespace {
+constexpr std::array<EnumName<PushAction>, 4> kPushActionNames{{{PushAction::copied, "copied"},
+                                                                {PushAction::updated, "updated"},
+                                                                {PushAction::unchanged, "unchanged"},
+                                                                {PushAction::skipped, "skipped"}}};
+}  // namespace
+
 std::string_view to_string(PushAction action) noexcept {
-  switch (action) {
-    case PushAction::copied:
-      return "copied";
-    case PushAction::updated:
-      return "updated";
-    case PushAction::unchanged:
-      return "unchanged";
-    case PushAction::skipped:
-      return "skipped";
-  }
-  return "unknown";
+  return name_of(kPushActionNames, action);
 }
 
 namespace {

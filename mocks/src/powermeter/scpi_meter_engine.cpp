@@ -168,49 +168,62 @@ ScpiMeterEngine::Result ScpiMeterEngine::process(std::string_view message, std::
   return r;
 }
 
+bool ScpiMeterEngine::Command::is(std::string_view pattern) const {
+  return match(parse_pattern(pattern), 0, tokens, 0);
+}
+
+ScpiMeterEngine::Part ScpiMeterEngine::error(int code, const char* text) {
+  push_error(code, text);
+  return Part{};
+}
+
 ScpiMeterEngine::Part ScpiMeterEngine::run_one(std::string_view header, std::string_view params, bool query,
                                                std::int64_t now_ns) {
-  const auto tokens = tokenize(header);
-  const auto is = [&](std::string_view pattern) { return match(parse_pattern(pattern), 0, tokens, 0); };
-  const auto number = [&](double v) { return Part{nr3(v), 0.0, true}; };
-  const auto integer = [&](long v) { return Part{std::to_string(v), 0.0, true}; };
-  const auto error = [&](int code, const char* text) {
-    push_error(code, text);
-    return Part{};
-  };
-  const bool has_params = !params.empty();
+  const Command c{tokenize(header), params, query, now_ns};
   if (!query && header.empty()) return error(-102, "Syntax error");
-  if (query && has_params && !is("SYSTem:ERRor[:NEXT]")) return error(-108, "Parameter not allowed");
-  const double sample_time = o_.sample_time_s * averaging_;
+  if (query && !params.empty() && !c.is("SYSTem:ERRor[:NEXT]")) return error(-108, "Parameter not allowed");
   if (zeroing_ && now_ns >= zero_done_ns_) {
     zeroing_ = false;
     zero_W_ = pending_zero_W_;
   }
+  if (auto p = common_command(c)) return *p;
+  if (auto p = settings_command(c)) return *p;
+  if (auto p = reading_command(c)) return *p;
+  return error(-113, "Undefined header");
+}
 
-  if (is("*IDN") && query) return {fmt::format("Thorlabs,{},{},{}", o_.model, o_.serial, o_.firmware)};
-  if (is("*RST") && !query) return reset(), Part{};
-  if (is("*CLS") && !query) return errors_.clear(), Part{};
-  if (is("*OPC") && query) return integer(1);
-  if (is("SYSTem:ERRor[:NEXT]") && query) {
-    if (errors_.empty()) return {"0,\"No error\""};
+std::optional<ScpiMeterEngine::Part> ScpiMeterEngine::common_command(const Command& c) {
+  if (c.is("*IDN") && c.query)
+    return Part{fmt::format("Thorlabs,{},{},{}", o_.model, o_.serial, o_.firmware)};
+  if (c.is("*RST") && !c.query) return reset(), Part{};
+  if (c.is("*CLS") && !c.query) return errors_.clear(), Part{};
+  if (c.is("*OPC") && c.query) return Part{"1", 0.0, true};
+  if (c.is("SYSTem:ERRor[:NEXT]") && c.query) {
+    if (errors_.empty()) return Part{"0,\"No error\""};
     auto [code, text] = errors_.front();
     errors_.pop_front();
-    return {fmt::format("{},\"{}\"", code, text)};
+    return Part{fmt::format("{},\"{}\"", code, text)};
   }
-  if (is("SYSTem:SENSor:IDN") && query) return {o_.sensor};
-  if (is("[SENSe]:CORRection:WAVelength")) {
-    if (query) return number(wavelength_nm_);
-    if (!has_params) return error(-109, "Missing parameter");
-    const auto v = to_number(params);
+  if (c.is("SYSTem:SENSor:IDN") && c.query) return Part{o_.sensor};
+  return std::nullopt;
+}
+
+std::optional<ScpiMeterEngine::Part> ScpiMeterEngine::settings_command(const Command& c) {
+  const auto number = [](double v) { return Part{nr3(v), 0.0, true}; };
+  const auto integer = [](long v) { return Part{std::to_string(v), 0.0, true}; };
+  if (c.is("[SENSe]:CORRection:WAVelength")) {
+    if (c.query) return number(wavelength_nm_);
+    if (c.params.empty()) return error(-109, "Missing parameter");
+    const auto v = to_number(c.params);
     if (!v) return error(-104, "Data type error");
     if (*v < min_wavelength_nm || *v > max_wavelength_nm) return error(-222, "Data out of range");
     wavelength_nm_ = *v;
-    return {};
+    return Part{};
   }
-  if (is("[SENSe]:POWer[:DC]:RANGe:AUTO")) {
-    if (query) return integer(auto_range_ ? 1 : 0);
-    std::string p(params);
-    std::transform(p.begin(), p.end(), p.begin(), [](unsigned char c) { return std::toupper(c); });
+  if (c.is("[SENSe]:POWer[:DC]:RANGe:AUTO")) {
+    if (c.query) return integer(auto_range_ ? 1 : 0);
+    std::string p(c.params);
+    std::transform(p.begin(), p.end(), p.begin(), [](unsigned char ch) { return std::toupper(ch); });
     if (p.empty()) return error(-109, "Missing parameter");
     if (p == "ON" || p == "1")
       auto_range_ = true;
@@ -218,62 +231,67 @@ ScpiMeterEngine::Part ScpiMeterEngine::run_one(std::string_view header, std::str
       auto_range_ = false;
     else
       return error(-224, "Illegal parameter value");
-    return {};
+    return Part{};
   }
-  if (is("[SENSe]:POWer[:DC]:RANGe[:UPPer]")) {
-    if (query) return number(range_W_);
-    const auto v = to_number(params);
+  if (c.is("[SENSe]:POWer[:DC]:RANGe[:UPPer]")) {
+    if (c.query) return number(range_W_);
+    const auto v = to_number(c.params);
     if (!v || *v <= 0.0) return error(-224, "Illegal parameter value");
     auto_range_ = false;
     range_W_ = std::pow(10.0, std::ceil(std::log10(std::max(*v, min_range_W))));
-    return {};
+    return Part{};
   }
-  if (is("[SENSe]:AVERage[:COUNt]")) {
-    if (query) return integer(averaging_);
-    const auto v = to_number(params);
+  if (c.is("[SENSe]:AVERage[:COUNt]")) {
+    if (c.query) return integer(averaging_);
+    const auto v = to_number(c.params);
     if (!v || *v != std::floor(*v)) return error(-104, "Data type error");
     if (*v < 1 || *v > 1e6) return error(-222, "Data out of range");
     averaging_ = static_cast<int>(*v);
-    return {};
+    return Part{};
   }
-  if (is("[SENSe]:CORRection:COLLect:ZERO[:INITiate]") && !query) {
+  if (c.is("[SENSe]:CORRection:COLLect:ZERO[:INITiate]") && !c.query) {
     // Zeroing averages the dark signal; the sensor is assumed covered, as the manual asks.
     std::normal_distribution<double> noise(0.0, o_.noise_floor_W / 30.0);
     pending_zero_W_ = o_.dark_offset_W + noise(rng_);
     zeroing_ = true;
-    zero_done_ns_ = now_ns + static_cast<std::int64_t>(o_.zero_duration_s * 1e9);
-    return {};
+    zero_done_ns_ = c.now_ns + static_cast<std::int64_t>(o_.zero_duration_s * 1e9);
+    return Part{};
   }
-  if (is("[SENSe]:CORRection:COLLect:ZERO:STATe") && query) return integer(zeroing_ ? 1 : 0);
-  if (is("[SENSe]:CORRection:COLLect:ZERO:MAGNitude") && query) return number(zero_W_);
-  if (is("[SENSe]:CORRection:COLLect:ZERO:ABORt") && !query) return zeroing_ = false, Part{};
-  if (is("MEASure[:SCALar][:POWer]") && query) {
+  if (c.is("[SENSe]:CORRection:COLLect:ZERO:STATe") && c.query) return integer(zeroing_ ? 1 : 0);
+  if (c.is("[SENSe]:CORRection:COLLect:ZERO:MAGNitude") && c.query) return number(zero_W_);
+  if (c.is("[SENSe]:CORRection:COLLect:ZERO:ABORt") && !c.query) return zeroing_ = false, Part{};
+  return std::nullopt;
+}
+
+std::optional<ScpiMeterEngine::Part> ScpiMeterEngine::reading_command(const Command& c) {
+  const double sample_time = o_.sample_time_s * averaging_;
+  if (c.is("MEASure[:SCALar][:POWer]") && c.query) {
     configured_ = true;
-    return {reading_text(sample()), sample_time, true};
+    return Part{reading_text(sample()), sample_time, true};
   }
-  if (is("CONFigure[:SCALar][:POWer]")) {
-    if (query) return {"POW"};
+  if (c.is("CONFigure[:SCALar][:POWer]")) {
+    if (c.query) return Part{"POW"};
     configured_ = true;
     fetched_.reset();
-    return {};
+    return Part{};
   }
-  if (is("INITiate[:IMMediate]") && !query) {
+  if (c.is("INITiate[:IMMediate]") && !c.query) {
     if (!configured_) return error(-221, "Settings conflict");
     fetched_ = sample();
-    acquisition_done_ns_ = now_ns + static_cast<std::int64_t>(sample_time * 1e9);
-    return {};
+    acquisition_done_ns_ = c.now_ns + static_cast<std::int64_t>(sample_time * 1e9);
+    return Part{};
   }
-  if (is("ABORt") && !query) return fetched_.reset(), Part{};
-  if (is("FETCh[:SCALar][:POWer]") && query) {
+  if (c.is("ABORt") && !c.query) return fetched_.reset(), Part{};
+  if (c.is("FETCh[:SCALar][:POWer]") && c.query) {
     if (!fetched_) return error(-230, "Data corrupt or stale");
-    const double wait = std::max(0.0, static_cast<double>(acquisition_done_ns_ - now_ns) * 1e-9);
-    return {reading_text(*fetched_), wait, true};
+    const double wait = std::max(0.0, static_cast<double>(acquisition_done_ns_ - c.now_ns) * 1e-9);
+    return Part{reading_text(*fetched_), wait, true};
   }
-  if (is("READ[:SCALar][:POWer]") && query) {
+  if (c.is("READ[:SCALar][:POWer]") && c.query) {
     fetched_ = sample();
-    return {reading_text(*fetched_), sample_time, true};
+    return Part{reading_text(*fetched_), sample_time, true};
   }
-  return error(-113, "Undefined header");
+  return std::nullopt;
 }
 
 }  // namespace tocd::mocks::detail

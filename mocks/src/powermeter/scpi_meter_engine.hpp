@@ -7,6 +7,7 @@
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include "tocd/mocks/power_meter_twin.hpp"
 
@@ -38,7 +39,20 @@ class ScpiMeterEngine {
     double busy_s = 0.0;
     bool numeric = false;
   };
+  /// One command of a program message: its header split into mnemonics, its parameters.
+  struct Command {
+    std::vector<std::string> tokens;
+    std::string_view params;
+    bool query = false;
+    std::int64_t now_ns = 0;
+    bool is(std::string_view pattern) const;  ///< the header matches this SCPI pattern
+  };
   Part run_one(std::string_view header, std::string_view params, bool query, std::int64_t now_ns);
+  // The command groups, tried in turn; none when the command is not of the group.
+  std::optional<Part> common_command(const Command& c);    ///< IEEE 488.2 and SYSTem
+  std::optional<Part> settings_command(const Command& c);  ///< SENSe settings and zeroing
+  std::optional<Part> reading_command(const Command& c);   ///< MEASure, CONFigure, INIT, FETCh, READ
+  Part error(int code, const char* text);
   void reset();
   double sample();  ///< one (averaged) reading as the meter would report it
   std::string reading_text(double value) const;

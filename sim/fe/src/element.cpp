@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 
 #include "tocd/core/isa_dispatch.hpp"
+#include "tocd/sim/material/section_kinematics.hpp"
 #include "tocd/sim/material/tensor.hpp"
 
 namespace tocd::sim::fe {
@@ -131,51 +132,28 @@ namespace {
     const double w = p.weight, J = det2 * F33;
     out.energy += pr.psi * w;
     // Spatial shape-function gradients g_a = F^-T dN/dX and hoop terms h_a = N_a / r.
-    const Eigen::Matrix2d Finv = F2.inverse();
-    double g[4][2], h[4];
-    for (int a = 0; a < 4; ++a) {
-      for (int i = 0; i < 2; ++i) g[a][i] = p.dNdX[a][0] * Finv(0, i) + p.dNdX[a][1] * Finv(1, i);
-      h[a] = axi ? p.N[a] / r : 0.0;
-    }
-    // B: rows (rr, zz, hoop, 2 rz); Voigt rows of c used: 0, 1, 2, 3.
-    Eigen::Matrix<double, 4, 8> B = Eigen::Matrix<double, 4, 8>::Zero();
-    for (int a = 0; a < 4; ++a) {
-      B(0, 2 * a) = g[a][0];
-      B(2, 2 * a) = h[a];
-      B(3, 2 * a) = g[a][1];
-      B(1, 2 * a + 1) = g[a][1];
-      B(3, 2 * a + 1) = g[a][0];
-    }
-    const Eigen::Vector4d s(t.tau(0, 0), t.tau(1, 1), t.tau(2, 2), t.tau(0, 1));
-    out.force.noalias() += w * B.transpose() * s;
+    const auto sg = mat::section_gradients<4>(p.N, p.dNdX, F2.inverse(), axi, r);
+    const Eigen::Matrix<double, 4, 8> B = sg.b_matrix();
+    out.force.noalias() += w * B.transpose() * mat::section_stress(t.tau);
     if (!pstress) {
       v += J * w;
       for (int a = 0; a < 4; ++a) {
-        bv[2 * a] += J * w * (g[a][0] + h[a]);
-        bv[2 * a + 1] += J * w * g[a][1];
+        bv[2 * a] += J * w * sg.div(a, 0);
+        bv[2 * a + 1] += J * w * sg.div(a, 1);
       }
     }
     if (!want_stiffness) continue;
-    Eigen::Matrix4d C;
-    for (int I = 0; I < 4; ++I)
-      for (int Jv = 0; Jv < 4; ++Jv) C(I, Jv) = t.c(I, Jv);
-    out.stiffness.noalias() += w * B.transpose() * C * B;
+    out.stiffness.noalias() += w * B.transpose() * mat::section_tangent(t.c) * B;
     for (int a = 0; a < 4; ++a)
       for (int b = 0; b < 4; ++b) {
-        double G = 0;
-        for (int i = 0; i < 2; ++i)
-          for (int j = 0; j < 2; ++j) G += g[a][i] * t.tau(i, j) * g[b][j];
-        out.stiffness(2 * a, 2 * b) += w * (G + h[a] * t.tau(2, 2) * h[b]);
+        const double G = sg.geometric(a, b, t.tau);
+        out.stiffness(2 * a, 2 * b) += w * (G + sg.h[a] * t.tau(2, 2) * sg.h[b]);
         out.stiffness(2 * a + 1, 2 * b + 1) += w * G;
         if (pstress) continue;
         // Second variation of the volume: J [div du div Du - tr(grad du grad Du)].
-        const double Da[2] = {g[a][0] + h[a], g[a][1]}, Db[2] = {g[b][0] + h[b], g[b][1]};
         for (int i = 0; i < 2; ++i)
-          for (int kk = 0; kk < 2; ++kk) {
-            double val = Da[i] * Db[kk] - g[a][kk] * g[b][i];
-            if (i == 0 && kk == 0) val -= h[a] * h[b];
-            kv(2 * a + i, 2 * b + kk) += J * w * val;
-          }
+          for (int kk = 0; kk < 2; ++kk)
+            kv(2 * a + i, 2 * b + kk) += J * w * sg.volume_second_variation(a, i, b, kk);
       }
   }
   if (!pstress) {

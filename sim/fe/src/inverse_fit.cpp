@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "tocd/core/enum_names.hpp"
 #include "tocd/sim/fe/solve.hpp"
 #include "tocd/sim/material/hyperelastic.hpp"
 #include "tocd/sim/material/least_squares.hpp"
@@ -21,27 +22,21 @@ namespace tocd::sim::fe {
 namespace mat = tocd::sim::material;
 using Eigen::VectorXd;
 
+namespace {
+constexpr std::array<EnumName<InverseModel>, 4> kInverseModelNames{{{InverseModel::scaled, "scaled"},
+                                                                    {InverseModel::ogden1, "ogden1"},
+                                                                    {InverseModel::ogden2, "ogden2"},
+                                                                    {InverseModel::ogden3, "ogden3"}}};
+}  // namespace
+
 InverseModel parse_inverse_model(const std::string& name) {
-  if (name == "scaled") return InverseModel::scaled;
-  if (name == "ogden1") return InverseModel::ogden1;
-  if (name == "ogden2") return InverseModel::ogden2;
-  if (name == "ogden3") return InverseModel::ogden3;
+  if (const auto m = value_of(kInverseModelNames, name)) return *m;
   throw mat::MaterialError(
-      fmt::format("unknown model '{}' for the FE fit (use scaled, ogden1, ogden2 or ogden3)", name));
+      fmt::format("unknown model '{}' for the FE fit (use {})", name, name_list(kInverseModelNames)));
 }
 
 std::string to_string(InverseModel m) {
-  switch (m) {
-    case InverseModel::scaled:
-      return "scaled";
-    case InverseModel::ogden1:
-      return "ogden1";
-    case InverseModel::ogden2:
-      return "ogden2";
-    case InverseModel::ogden3:
-      return "ogden3";
-  }
-  return "?";
+  return std::string(name_of(kInverseModelNames, m, "?"));
 }
 
 std::vector<double> pin_force_curve(const PinCompressionData& data, const mat::OgdenParameters& material) {
@@ -154,32 +149,41 @@ struct Weighted {
   }
 };
 
-}  // namespace
-
-InverseFitResult fit_material(const std::vector<PinCompressionData>& pins,
-                              const std::vector<ClosedFormData>& closed, const InverseFitOptions& o) {
-  check_data(pins, closed);
-  o.reference.validate();
-  const Evaluator eval{pins, closed};
+// One material fit: the datasets, their weights and the reference law, with the steps of the
+// fit as methods.
+struct MaterialFit {
+  const std::vector<PinCompressionData>& pins;
+  const std::vector<ClosedFormData>& closed;
+  const InverseFitOptions& o;
+  Evaluator eval{pins, closed};
   Weighted w;
-  for (const auto& p : pins) {
-    w.data.push_back(&p.load_N);
-    w.floor.push_back(std::max(o.relative_floor * largest_abs(p.load_N), 1e-300));
-    w.sqrt_weight.push_back(std::sqrt(p.weight));
+  mat::OgdenParameters ref = o.reference;
+  int N = ogden_terms(o.model);
+
+  MaterialFit(const std::vector<PinCompressionData>& p, const std::vector<ClosedFormData>& c,
+              const InverseFitOptions& opt)
+      : pins(p), closed(c), o(opt) {
+    for (const auto& pin : pins) {
+      w.data.push_back(&pin.load_N);
+      w.floor.push_back(std::max(o.relative_floor * largest_abs(pin.load_N), 1e-300));
+      w.sqrt_weight.push_back(std::sqrt(pin.weight));
+    }
+    for (const auto& cf : closed) {
+      w.data.push_back(&cf.stress_MPa);
+      w.floor.push_back(std::max(o.relative_floor * largest_abs(cf.stress_MPa), 1e-300));
+      w.sqrt_weight.push_back(std::sqrt(cf.weight));
+    }
+    if (ref.D.empty() || ref.D[0] == 0.0) ref.D = {poisson_D1(ref.initial_shear_modulus(), o.poisson_ratio)};
   }
-  for (const auto& c : closed) {
-    w.data.push_back(&c.stress_MPa);
-    w.floor.push_back(std::max(o.relative_floor * largest_abs(c.stress_MPa), 1e-300));
-    w.sqrt_weight.push_back(std::sqrt(c.weight));
-  }
-  auto say = [&](const std::string& s) {
+
+  void say(const std::string& s) const {
     if (o.progress) o.progress(s);
-  };
+  }
 
   // Every model value scales exactly with a common factor on the energy (displacement control:
   // same deformation, forces x s), so the best factor for a law's shape is linear least
   // squares from one evaluation. Returns (factor, cost), or nullopt if the shape cannot be solved.
-  auto best_scale = [&](const mat::OgdenParameters& shape) -> std::optional<std::pair<double, double>> {
+  std::optional<std::pair<double, double>> best_scale(const mat::OgdenParameters& shape) const {
     const auto values = eval(shape);
     if (!values) return std::nullopt;
     const VectorXd r = w.residuals(*values);  // sqrt(w)(m - d)/f
@@ -190,21 +194,14 @@ InverseFitResult fit_material(const std::vector<PinCompressionData>& pins,
     const double num = -m.dot(minus_d), den = m.squaredNorm();
     const double f = den > 0 && num > 0 ? num / den : 1.0;
     return std::make_pair(f, (f * m + minus_d).squaredNorm());
-  };
-  mat::OgdenParameters ref = o.reference;
-  if (ref.D.empty() || ref.D[0] == 0.0) ref.D = {poisson_D1(ref.initial_shear_modulus(), o.poisson_ratio)};
-  const auto ref_fit = best_scale(ref);
-  if (!ref_fit)
-    throw FeError("material fit: the FE cannot solve the datasets' compression with the reference law");
-  const double s0 = ref_fit->first;
-  say(fmt::format("reference law scaled by {:.4g} to the data", s0));
+  }
 
-  const int N = ogden_terms(o.model);
-  mat::OgdenParameters start = mat::scale_stiffness(ref, s0);
-  if (N > 0 && static_cast<int>(start.mu.size()) != N) {
-    // Another number of terms: candidate shapes (stable, mu_i > 0: the one or two-term Ogden
-    // closest to the reference's uniaxial curve, and a few alphas), each scaled to the data;
-    // the best is the start.
+  // The reference law scaled by s0, or, for another number of terms, the best of candidate
+  // shapes (stable, mu_i > 0: the one or two-term Ogden closest to the reference's uniaxial
+  // curve, and a few alphas), each scaled to the data.
+  mat::OgdenParameters starting_law(double s0) const {
+    mat::OgdenParameters start = mat::scale_stiffness(ref, s0);
+    if (N == 0 || static_cast<int>(start.mu.size()) == N) return start;
     std::vector<mat::OgdenParameters> shapes;
     const double mu0 = ref.initial_shear_modulus();
     try {
@@ -239,10 +236,11 @@ InverseFitResult fit_material(const std::vector<PinCompressionData>& pins,
     }
     if (!std::isfinite(best)) throw FeError("material fit: no starting law the FE can solve");
     say(fmt::format("start: mu {} alpha {}", fmt::join(start.mu, ", "), fmt::join(start.alpha, ", ")));
+    return start;
   }
 
-  mat::LeastSquaresProblem pr;
-  auto to_law = [&](const VectorXd& t) {
+  // The law of a parameter vector: the reference's scale (N = 0), or the Ogden terms (and D1).
+  mat::OgdenParameters to_law(const VectorXd& t) const {
     if (N == 0) return mat::scale_stiffness(ref, t[0]);
     mat::OgdenParameters p;
     for (int i = 0; i < N; ++i) {
@@ -252,67 +250,44 @@ InverseFitResult fit_material(const std::vector<PinCompressionData>& pins,
     const double mu0 = p.initial_shear_modulus();
     p.D = {o.fit_D ? t[2 * N] : (mu0 > 0 ? poisson_D1(mu0, o.poisson_ratio) : -1.0)};
     return p;
-  };
-  if (N == 0) {
-    pr.names = {"s"};
-    pr.start = VectorXd::Constant(1, s0);
-    pr.difference_step = VectorXd::Constant(1, 1e-3 * s0);
-  } else {
-    pr.start.resize(2 * N + (o.fit_D ? 1 : 0));
-    pr.difference_step.resize(pr.start.size());
-    const double mu0 = start.initial_shear_modulus();
-    for (int i = 0; i < N; ++i) {
-      pr.names.push_back(fmt::format("mu{}", i + 1));
-      pr.names.push_back(fmt::format("alpha{}", i + 1));
-      pr.start[2 * i] = start.mu[i];
-      pr.start[2 * i + 1] = start.alpha[i];
-      // 1e-3 relative: the FE force is converged to ~1e-6 relative, so the difference quotient
-      // keeps ~3 digits, more than the curvature error of a step this small.
-      pr.difference_step[2 * i] = 1e-3 * std::max(std::abs(start.mu[i]), 0.1 * std::abs(mu0));
-      pr.difference_step[2 * i + 1] = 1e-3 * std::max(std::abs(start.alpha[i]), 0.5);
-    }
-    if (o.fit_D) {
-      pr.names.push_back("D1");
-      pr.start[2 * N] = poisson_D1(mu0, o.poisson_ratio);
-      pr.difference_step[2 * N] = 1e-3 * pr.start[2 * N];
-    }
   }
-  pr.residuals = [&](const VectorXd& t) -> std::optional<VectorXd> {
-    const auto v = eval(to_law(t));
-    if (!v) return std::nullopt;
-    return w.residuals(*v);
-  };
-  mat::LeastSquaresOptions lo;
-  lo.max_iterations = o.max_iterations;
-  lo.confidence = o.confidence;
-  lo.progress = [&](int it, double cost, int evals) {
-    say(fmt::format("iteration {}: sum of squared relative residuals {:.6g} ({} evaluations)", it, cost,
-                    evals));
-  };
-  const mat::LeastSquaresResult ls = mat::levenberg_marquardt(pr, lo);
 
-  InverseFitResult out;
-  out.model = o.model;
-  out.material = to_law(ls.theta);
-  out.names = pr.names;
-  out.confidence = o.confidence;
-  out.residual_variance = ls.residual_variance;
-  out.t_quantile = ls.t_quantile;
-  out.iterations = ls.iterations;
-  out.evaluations = ls.evaluations;
-  out.converged = ls.converged;
-  out.stop_reason = ls.stop_reason;
-  for (Eigen::Index j = 0; j < ls.theta.size(); ++j) {
-    out.values.push_back(ls.theta[j]);
-    out.standard_errors.push_back(ls.standard_error[j]);
-    out.interval_low.push_back(ls.theta[j] - ls.interval_half_width[j]);
-    out.interval_high.push_back(ls.theta[j] + ls.interval_half_width[j]);
-    std::vector<double> row;
-    for (Eigen::Index k = 0; k < ls.theta.size(); ++k) row.push_back(ls.covariance(j, k));
-    out.covariance.push_back(std::move(row));
+  mat::LeastSquaresProblem problem(const mat::OgdenParameters& start, double s0) const {
+    mat::LeastSquaresProblem pr;
+    if (N == 0) {
+      pr.names = {"s"};
+      pr.start = VectorXd::Constant(1, s0);
+      pr.difference_step = VectorXd::Constant(1, 1e-3 * s0);
+    } else {
+      pr.start.resize(2 * N + (o.fit_D ? 1 : 0));
+      pr.difference_step.resize(pr.start.size());
+      const double mu0 = start.initial_shear_modulus();
+      for (int i = 0; i < N; ++i) {
+        pr.names.push_back(fmt::format("mu{}", i + 1));
+        pr.names.push_back(fmt::format("alpha{}", i + 1));
+        pr.start[2 * i] = start.mu[i];
+        pr.start[2 * i + 1] = start.alpha[i];
+        // 1e-3 relative: the FE force is converged to ~1e-6 relative, so the difference quotient
+        // keeps ~3 digits, more than the curvature error of a step this small.
+        pr.difference_step[2 * i] = 1e-3 * std::max(std::abs(start.mu[i]), 0.1 * std::abs(mu0));
+        pr.difference_step[2 * i + 1] = 1e-3 * std::max(std::abs(start.alpha[i]), 0.5);
+      }
+      if (o.fit_D) {
+        pr.names.push_back("D1");
+        pr.start[2 * N] = poisson_D1(mu0, o.poisson_ratio);
+        pr.difference_step[2 * N] = 1e-3 * pr.start[2 * N];
+      }
+    }
+    pr.residuals = [this](const VectorXd& t) -> std::optional<VectorXd> {
+      const auto v = eval(to_law(t));
+      if (!v) return std::nullopt;
+      return w.residuals(*v);
+    };
+    return pr;
   }
-  out.poisson_ratio = o.poisson_ratio;
-  {
+
+  // The laws at both ends of each axis of the confidence ellipsoid that are admissible.
+  void add_confidence_laws(InverseFitResult& out, const mat::LeastSquaresResult& ls) const {
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(ls.covariance);
     for (Eigen::Index k = 0; es.info() == Eigen::Success && k < ls.theta.size(); ++k) {
       const double l = es.eigenvalues()[k];
@@ -329,45 +304,102 @@ InverseFitResult fit_material(const std::vector<PinCompressionData>& pins,
       }
     }
   }
-  const auto fitted = eval(out.material);
-  if (!fitted) throw FeError("material fit: the fitted law cannot be re-evaluated");  // accepted above
-  for (std::size_t s = 0; s < w.data.size(); ++s) {
-    DatasetFit d;
-    const bool pin = s < pins.size();
-    d.name = pin ? pins[s].name : closed[s - pins.size()].name;
-    d.x = pin ? pins[s].displacement_mm : closed[s - pins.size()].x;
-    d.measured = *w.data[s];
-    d.fitted = (*fitted)[s];
-    double sum = 0;
-    for (std::size_t i = 0; i < d.measured.size(); ++i) {
-      const double rel = (d.fitted[i] - d.measured[i]) / std::max(std::abs(d.measured[i]), w.floor[s]);
-      sum += rel * rel;
-      d.max_abs_relative = std::max(d.max_abs_relative, std::abs(rel));
-    }
-    d.rms_relative = std::sqrt(sum / static_cast<double>(d.measured.size()));
-    out.datasets.push_back(std::move(d));
-  }
 
-  // Stability: the wide range first; if it fails, the stable interval around 1 by bisection.
+  // Each dataset measured beside the fitted law's values.
+  void add_datasets(InverseFitResult& out) const {
+    const auto fitted = eval(out.material);
+    if (!fitted) throw FeError("material fit: the fitted law cannot be re-evaluated");  // accepted above
+    for (std::size_t s = 0; s < w.data.size(); ++s) {
+      DatasetFit d;
+      const bool pin = s < pins.size();
+      d.name = pin ? pins[s].name : closed[s - pins.size()].name;
+      d.x = pin ? pins[s].displacement_mm : closed[s - pins.size()].x;
+      d.measured = *w.data[s];
+      d.fitted = (*fitted)[s];
+      double sum = 0;
+      for (std::size_t i = 0; i < d.measured.size(); ++i) {
+        const double rel = (d.fitted[i] - d.measured[i]) / std::max(std::abs(d.measured[i]), w.floor[s]);
+        sum += rel * rel;
+        d.max_abs_relative = std::max(d.max_abs_relative, std::abs(rel));
+      }
+      d.rms_relative = std::sqrt(sum / static_cast<double>(d.measured.size()));
+      out.datasets.push_back(std::move(d));
+    }
+  }
+};
+
+void add_estimates(InverseFitResult& out, const mat::LeastSquaresResult& ls) {
+  out.residual_variance = ls.residual_variance;
+  out.t_quantile = ls.t_quantile;
+  out.iterations = ls.iterations;
+  out.evaluations = ls.evaluations;
+  out.converged = ls.converged;
+  out.stop_reason = ls.stop_reason;
+  for (Eigen::Index j = 0; j < ls.theta.size(); ++j) {
+    out.values.push_back(ls.theta[j]);
+    out.standard_errors.push_back(ls.standard_error[j]);
+    out.interval_low.push_back(ls.theta[j] - ls.interval_half_width[j]);
+    out.interval_high.push_back(ls.theta[j] + ls.interval_half_width[j]);
+    std::vector<double> row;
+    for (Eigen::Index k = 0; k < ls.theta.size(); ++k) row.push_back(ls.covariance(j, k));
+    out.covariance.push_back(std::move(row));
+  }
+}
+
+// Stability: the wide range first; if it fails, the stable interval around 1 by bisection.
+void add_stability(InverseFitResult& out) {
   const auto law = mat::make_ogden(out.material);
   out.stability = mat::check_stability(*law, 0.15, 1 / 0.15);
   out.stable_lambda_min = 0.15;
   out.stable_lambda_max = 1 / 0.15;
-  if (!out.stability.stable) {
-    auto bisect = [&](double unstable, bool below) {
-      double stable = 1.0;
-      for (int k = 0; k < 30; ++k) {
-        const double mid = std::sqrt(stable * unstable);
-        const bool ok =
-            below ? mat::check_stability(*law, mid, 1.0).stable : mat::check_stability(*law, 1.0, mid).stable;
-        (ok ? stable : unstable) = mid;
-      }
-      return stable;
-    };
-    out.stable_lambda_min = mat::check_stability(*law, 0.15, 1.0).stable ? 0.15 : bisect(0.15, true);
-    out.stable_lambda_max =
-        mat::check_stability(*law, 1.0, 1 / 0.15).stable ? 1 / 0.15 : bisect(1 / 0.15, false);
-  }
+  if (out.stability.stable) return;
+  auto bisect = [&](double unstable, bool below) {
+    double stable = 1.0;
+    for (int k = 0; k < 30; ++k) {
+      const double mid = std::sqrt(stable * unstable);
+      const bool ok =
+          below ? mat::check_stability(*law, mid, 1.0).stable : mat::check_stability(*law, 1.0, mid).stable;
+      (ok ? stable : unstable) = mid;
+    }
+    return stable;
+  };
+  out.stable_lambda_min = mat::check_stability(*law, 0.15, 1.0).stable ? 0.15 : bisect(0.15, true);
+  out.stable_lambda_max =
+      mat::check_stability(*law, 1.0, 1 / 0.15).stable ? 1 / 0.15 : bisect(1 / 0.15, false);
+}
+
+}  // namespace
+
+InverseFitResult fit_material(const std::vector<PinCompressionData>& pins,
+                              const std::vector<ClosedFormData>& closed, const InverseFitOptions& o) {
+  check_data(pins, closed);
+  o.reference.validate();
+  const MaterialFit fit(pins, closed, o);
+  const auto ref_fit = fit.best_scale(fit.ref);
+  if (!ref_fit)
+    throw FeError("material fit: the FE cannot solve the datasets' compression with the reference law");
+  const double s0 = ref_fit->first;
+  fit.say(fmt::format("reference law scaled by {:.4g} to the data", s0));
+  const mat::LeastSquaresProblem pr = fit.problem(fit.starting_law(s0), s0);
+  mat::LeastSquaresOptions lo;
+  lo.max_iterations = o.max_iterations;
+  lo.confidence = o.confidence;
+  lo.progress = [&](int it, double cost, int evals) {
+    fit.say(fmt::format("iteration {}: sum of squared relative residuals {:.6g} ({} evaluations)", it, cost,
+                        evals));
+  };
+  const mat::LeastSquaresResult ls = mat::levenberg_marquardt(pr, lo);
+
+  InverseFitResult out;
+  out.model = o.model;
+  out.material = fit.to_law(ls.theta);
+  out.names = pr.names;
+  out.confidence = o.confidence;
+  out.poisson_ratio = o.poisson_ratio;
+  add_estimates(out, ls);
+  fit.add_confidence_laws(out, ls);
+  fit.add_datasets(out);
+  add_stability(out);
   return out;
 }
 

@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include "tocd/core/enum_names.hpp"
+
 namespace tocd::sim::fe {
 
 Kinematics parse_kinematics(const std::string& s) {
@@ -13,26 +15,28 @@ Kinematics parse_kinematics(const std::string& s) {
   throw FeError(fmt::format("unknown kinematics '{}' (use axi, plane-strain or plane-stress)", s));
 }
 
-Bottom parse_bottom(const std::string& s) {
-  if (s == "bonded") return Bottom::bonded;
-  if (s == "sliding") return Bottom::sliding;
-  throw FeError(fmt::format("unknown bottom condition '{}' (use bonded or sliding)", s));
-}
+namespace {
+constexpr std::array<EnumName<Kinematics>, 3> kKinematicsNames{{{Kinematics::axisymmetric, "axisymmetric"},
+                                                                {Kinematics::plane_strain, "plane-strain"},
+                                                                {Kinematics::plane_stress, "plane-stress"}}};
+}  // namespace
 
 std::string to_string(Kinematics k) {
-  switch (k) {
-    case Kinematics::axisymmetric:
-      return "axisymmetric";
-    case Kinematics::plane_strain:
-      return "plane-strain";
-    case Kinematics::plane_stress:
-      return "plane-stress";
-  }
-  return "?";
+  return std::string(name_of(kKinematicsNames, k, "?"));
+}
+
+namespace {
+constexpr std::array<EnumName<Bottom>, 2> kBottomNames{
+    {{Bottom::bonded, "bonded"}, {Bottom::sliding, "sliding"}}};
+}  // namespace
+
+Bottom parse_bottom(const std::string& s) {
+  if (const auto b = value_of(kBottomNames, s)) return *b;
+  throw FeError(fmt::format("unknown bottom condition '{}' (use {})", s, name_list(kBottomNames)));
 }
 
 std::string to_string(Bottom b) {
-  return b == Bottom::bonded ? "bonded" : "sliding";
+  return std::string(name_of(kBottomNames, b, "?"));
 }
 
 FeModel FeModel::published_default() {

@@ -7,37 +7,27 @@
 #include <Eigen/Dense>
 #include <fmt/format.h>
 
+#include "tocd/core/enum_names.hpp"
 #include "tocd/sim/material/hyperelastic.hpp"
 
 namespace tocd::sim::material {
 
+namespace {
+constexpr std::array<EnumName<FitModel>, 6> kFitModelNames{{{FitModel::ogden1, "ogden1"},
+                                                            {FitModel::ogden2, "ogden2"},
+                                                            {FitModel::ogden3, "ogden3"},
+                                                            {FitModel::neo_hookean, "neo-hookean"},
+                                                            {FitModel::mooney_rivlin, "mooney-rivlin"},
+                                                            {FitModel::yeoh, "yeoh"}}};
+}  // namespace
+
 FitModel parse_fit_model(const std::string& name) {
-  if (name == "ogden1") return FitModel::ogden1;
-  if (name == "ogden2") return FitModel::ogden2;
-  if (name == "ogden3") return FitModel::ogden3;
-  if (name == "neo-hookean") return FitModel::neo_hookean;
-  if (name == "mooney-rivlin") return FitModel::mooney_rivlin;
-  if (name == "yeoh") return FitModel::yeoh;
-  throw MaterialError(fmt::format(
-      "unknown material model '{}' (use ogden1, ogden2, ogden3, neo-hookean, mooney-rivlin or yeoh)", name));
+  if (const auto m = value_of(kFitModelNames, name)) return *m;
+  throw MaterialError(fmt::format("unknown material model '{}' (use {})", name, name_list(kFitModelNames)));
 }
 
 std::string to_string(FitModel m) {
-  switch (m) {
-    case FitModel::ogden1:
-      return "ogden1";
-    case FitModel::ogden2:
-      return "ogden2";
-    case FitModel::ogden3:
-      return "ogden3";
-    case FitModel::neo_hookean:
-      return "neo-hookean";
-    case FitModel::mooney_rivlin:
-      return "mooney-rivlin";
-    case FitModel::yeoh:
-      return "yeoh";
-  }
-  return "?";
+  return std::string(name_of(kFitModelNames, m, "?"));
 }
 
 double ogden_uniaxial_nominal_stress(const OgdenParameters& p, double lambda) {
@@ -319,10 +309,9 @@ std::vector<VectorXd> starting_points(const Problem& pr) {
   return starts;
 }
 
-}  // namespace
-
-FitResult fit_uniaxial(const std::vector<double>& strain, const std::vector<double>& stress, FitModel model,
-                       const FitOptions& options) {
+// The data as stretches and signed targets, checked, with their relative-residual weights.
+Problem fit_problem(const std::vector<double>& strain, const std::vector<double>& stress, FitModel model,
+                    const FitOptions& options) {
   if (strain.size() != stress.size())
     throw MaterialError(
         fmt::format("fit: {} strain values but {} stress values", strain.size(), stress.size()));
@@ -352,9 +341,14 @@ FitResult fit_uniaxial(const std::vector<double>& strain, const std::vector<doub
   if (!(smax > 0)) throw MaterialError("fit: every stress value is zero");
   // Relative residuals (as Abaqus fits test data), with a floor so near-zero points do not dominate.
   for (double t : pr.target) pr.weight.push_back(1.0 / std::max(std::abs(t), 1e-2 * smax));
+  return pr;
+}
 
+// The best of Levenberg-Marquardt runs from every starting point (Ogden forms: the mu solved
+// exactly for each set of alpha).
+LmOutcome best_fit(const Problem& pr, const FitOptions& options) {
   LmOutcome best;
-  const int N = ogden_terms(model);
+  const int N = ogden_terms(pr.model);
   const ProjectedOgden projected{pr};
   for (const VectorXd& p0 : starting_points(pr)) {
     LmOutcome o;
@@ -369,25 +363,59 @@ FitResult fit_uniaxial(const std::vector<double>& strain, const std::vector<doub
     if (o.cost < best.cost) best = o;
   }
   if (!std::isfinite(best.cost))
-    throw MaterialError(fmt::format("fit: {} found no admissible parameters", to_string(model)));
+    throw MaterialError(fmt::format("fit: {} found no admissible parameters", to_string(pr.model)));
+  return best;
+}
 
+std::vector<std::string> parameter_names(FitModel model) {
+  const int N = ogden_terms(model);
+  std::vector<std::string> names;
+  if (N > 0) {
+    for (int i = 0; i < N; ++i) {
+      names.push_back(fmt::format("mu{}", i + 1));
+      names.push_back(fmt::format("alpha{}", i + 1));
+    }
+  } else if (model == FitModel::neo_hookean) {
+    names = {"C10"};
+  } else if (model == FitModel::mooney_rivlin) {
+    names = {"C10", "C01"};
+  } else {
+    names = {"C10", "C20", "C30"};
+  }
+  return names;
+}
+
+// The fitted stresses, their residuals and the goodness of fit.
+void add_residuals(FitResult& res, const Problem& pr, const VectorXd& p, const std::vector<double>& stress,
+                   bool compression) {
+  double ss_res = 0, ss_tot = 0, mean = 0;
+  for (double s : stress) mean += s;
+  mean /= static_cast<double>(stress.size());
+  for (std::size_t k = 0; k < stress.size(); ++k) {
+    const double m = model_stress(pr.model, p, pr.lambda[k]);
+    const double fitted = compression ? -m : m;
+    res.fitted_stress.push_back(fitted);
+    res.residuals.push_back(fitted - stress[k]);
+    ss_res += (fitted - stress[k]) * (fitted - stress[k]);
+    ss_tot += (stress[k] - mean) * (stress[k] - mean);
+    res.max_abs_residual_MPa = std::max(res.max_abs_residual_MPa, std::abs(fitted - stress[k]));
+  }
+  res.rms_MPa = std::sqrt(ss_res / static_cast<double>(stress.size()));
+  res.r_squared = ss_tot > 0 ? 1 - ss_res / ss_tot : 1.0;
+}
+
+}  // namespace
+
+FitResult fit_uniaxial(const std::vector<double>& strain, const std::vector<double>& stress, FitModel model,
+                       const FitOptions& options) {
+  const Problem pr = fit_problem(strain, stress, model, options);
+  const LmOutcome best = best_fit(pr, options);
   FitResult res;
   res.model = model;
   res.iterations = best.iterations;
   res.converged = best.converged;
   res.values.assign(best.p.data(), best.p.data() + best.p.size());
-  if (N > 0) {
-    for (int i = 0; i < N; ++i) {
-      res.names.push_back(fmt::format("mu{}", i + 1));
-      res.names.push_back(fmt::format("alpha{}", i + 1));
-    }
-  } else if (model == FitModel::neo_hookean) {
-    res.names = {"C10"};
-  } else if (model == FitModel::mooney_rivlin) {
-    res.names = {"C10", "C01"};
-  } else {
-    res.names = {"C10", "C20", "C30"};
-  }
+  res.names = parameter_names(model);
   const double mu0 =
       model == FitModel::yeoh ? 2 * best.p[0] : to_ogden(model, best.p).initial_shear_modulus();
   const double nu = options.poisson_ratio;
@@ -398,20 +426,7 @@ FitResult fit_uniaxial(const std::vector<double>& strain, const std::vector<doub
     res.ogden = to_ogden(model, best.p);
     res.ogden.D = {D1};
   }
-  double ss_res = 0, ss_tot = 0, mean = 0;
-  for (double s : stress) mean += s;
-  mean /= static_cast<double>(stress.size());
-  for (std::size_t k = 0; k < stress.size(); ++k) {
-    const double m = model_stress(model, best.p, pr.lambda[k]);
-    const double fitted = options.compression ? -m : m;
-    res.fitted_stress.push_back(fitted);
-    res.residuals.push_back(fitted - stress[k]);
-    ss_res += (fitted - stress[k]) * (fitted - stress[k]);
-    ss_tot += (stress[k] - mean) * (stress[k] - mean);
-    res.max_abs_residual_MPa = std::max(res.max_abs_residual_MPa, std::abs(fitted - stress[k]));
-  }
-  res.rms_MPa = std::sqrt(ss_res / static_cast<double>(stress.size()));
-  res.r_squared = ss_tot > 0 ? 1 - ss_res / ss_tot : 1.0;
+  add_residuals(res, pr, best.p, stress, options.compression);
   const auto [lo, hi] = std::minmax_element(pr.lambda.begin(), pr.lambda.end());
   const double lmin = std::min(*lo, 1 / *hi), lmax = std::max(*hi, 1 / *lo);
   if (mu0 > 0) {

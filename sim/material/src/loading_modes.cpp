@@ -4,26 +4,25 @@
 
 #include <fmt/format.h>
 
+#include "tocd/core/enum_names.hpp"
+
 namespace tocd::sim::material {
 
+namespace {
+constexpr std::array<EnumName<LoadingMode>, 3> kLoadingModeNames{
+    {{LoadingMode::uniaxial, "uniaxial"},
+     {LoadingMode::equibiaxial, "equibiaxial"},
+     {LoadingMode::simple_shear, "simple-shear"}}};
+}  // namespace
+
 LoadingMode parse_loading_mode(const std::string& name) {
-  if (name == "uniaxial") return LoadingMode::uniaxial;
-  if (name == "equibiaxial") return LoadingMode::equibiaxial;
-  if (name == "simple-shear" || name == "shear") return LoadingMode::simple_shear;
-  throw MaterialError(
-      fmt::format("unknown loading mode '{}' (use uniaxial, equibiaxial or simple-shear)", name));
+  if (name == "shear") return LoadingMode::simple_shear;  // the short spelling, also accepted
+  if (const auto m = value_of(kLoadingModeNames, name)) return *m;
+  throw MaterialError(fmt::format("unknown loading mode '{}' (use {})", name, name_list(kLoadingModeNames)));
 }
 
 std::string to_string(LoadingMode mode) {
-  switch (mode) {
-    case LoadingMode::uniaxial:
-      return "uniaxial";
-    case LoadingMode::equibiaxial:
-      return "equibiaxial";
-    case LoadingMode::simple_shear:
-      return "simple-shear";
-  }
-  return "?";
+  return std::string(name_of(kLoadingModeNames, mode, "?"));
 }
 
 double ogden_nominal_stress(const OgdenParameters& p, LoadingMode mode, double x) {

@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 
 #include "grid.hpp"
+#include "tocd/sim/material/section_kinematics.hpp"
 #include "tocd/sim/material/tensor.hpp"
 
 namespace tocd::sim::poro {
@@ -87,13 +88,8 @@ bool element_residual(const ElementGauss& gauss, const ElementPhysics& physics, 
 
     // Spatial gradients: g_a = F^-T Grad N_a (displacement), gp_c (pressure); hoop h_a = N_a / r.
     const Eigen::Matrix2d Finv = now.F2.inverse();
-    double g[9][2], h[9], D[9][2], gp[4][2];
-    for (int a = 0; a < 9; ++a) {
-      for (int i = 0; i < 2; ++i) g[a][i] = p.dN9dX[a][0] * Finv(0, i) + p.dN9dX[a][1] * Finv(1, i);
-      h[a] = axi ? p.N9[a] / now.r : 0.0;
-      D[a][0] = g[a][0] + h[a];  // divergence of the virtual displacement e_x N_a
-      D[a][1] = g[a][1];
-    }
+    const auto sg = mat::section_gradients<9>(p.N9, p.dN9dX, Finv, axi, now.r);
+    double gp[4][2];
     double pressure = 0, grad_p[2] = {0, 0};
     for (int c = 0; c < 4; ++c) {
       for (int i = 0; i < 2; ++i) gp[c][i] = p.dN4dX[c][0] * Finv(0, i) + p.dN4dX[c][1] * Finv(1, i);
@@ -103,18 +99,10 @@ bool element_residual(const ElementGauss& gauss, const ElementPhysics& physics, 
 
     // Momentum: effective Kirchhoff stress through B (rows rr, zz, hoop, 2 rz), water through
     // -J p div(du).
-    Eigen::Matrix<double, 4, 18> B = Eigen::Matrix<double, 4, 18>::Zero();
-    for (int a = 0; a < 9; ++a) {
-      B(0, 2 * a) = g[a][0];
-      B(2, 2 * a) = h[a];
-      B(3, 2 * a) = g[a][1];
-      B(1, 2 * a + 1) = g[a][1];
-      B(3, 2 * a + 1) = g[a][0];
-    }
-    const Eigen::Vector4d s(t.tau(0, 0), t.tau(1, 1), t.tau(2, 2), t.tau(0, 1));
-    residual.head<18>().noalias() += w * B.transpose() * s;
+    const Eigen::Matrix<double, 4, 18> B = sg.b_matrix();
+    residual.head<18>().noalias() += w * B.transpose() * mat::section_stress(t.tau);
     for (int a = 0; a < 9; ++a)
-      for (int i = 0; i < 2; ++i) residual[2 * a + i] -= w * J * pressure * D[a][i];
+      for (int i = 0; i < 2; ++i) residual[2 * a + i] -= w * J * pressure * sg.div(a, i);
     // Darcy (times dt): N_c (J - J_n) + dt J k gp_c . grad p.
     for (int c = 0; c < 4; ++c)
       residual[18 + c] +=
@@ -122,37 +110,29 @@ bool element_residual(const ElementGauss& gauss, const ElementPhysics& physics, 
 
     if (!tangent) continue;
     ElementMatrix& K = *tangent;
-    Eigen::Matrix4d C;
-    for (int I = 0; I < 4; ++I)
-      for (int Jv = 0; Jv < 4; ++Jv) C(I, Jv) = t.c(I, Jv);
-    K.topLeftCorner<18, 18>().noalias() += w * B.transpose() * C * B;
+    K.topLeftCorner<18, 18>().noalias() += w * B.transpose() * mat::section_tangent(t.c) * B;
     for (int a = 0; a < 9; ++a)
       for (int b = 0; b < 9; ++b) {
         // Geometric stiffness of the effective stress.
-        double G = 0;
-        for (int i = 0; i < 2; ++i)
-          for (int j = 0; j < 2; ++j) G += g[a][i] * t.tau(i, j) * g[b][j];
-        K(2 * a, 2 * b) += w * (G + h[a] * t.tau(2, 2) * h[b]);
+        const double G = sg.geometric(a, b, t.tau);
+        K(2 * a, 2 * b) += w * (G + sg.h[a] * t.tau(2, 2) * sg.h[b]);
         K(2 * a + 1, 2 * b + 1) += w * G;
-        // Water: d(-J p div du) = J p [-div du div Du + tr(grad du grad Du)].
+        // Water: d(-J p div du) = -J p [div du div Du - tr(grad du grad Du)].
         for (int i = 0; i < 2; ++i)
-          for (int kk = 0; kk < 2; ++kk) {
-            double v = -D[a][i] * D[b][kk] + g[a][kk] * g[b][i];
-            if (i == 0 && kk == 0) v += h[a] * h[b];
-            K(2 * a + i, 2 * b + kk) += w * J * pressure * v;
-          }
+          for (int kk = 0; kk < 2; ++kk)
+            K(2 * a + i, 2 * b + kk) += w * J * pressure * -sg.volume_second_variation(a, i, b, kk);
       }
     for (int a = 0; a < 9; ++a)
       for (int c = 0; c < 4; ++c)
-        for (int i = 0; i < 2; ++i) K(2 * a + i, 18 + c) -= w * J * D[a][i] * p.N4[c];
+        for (int i = 0; i < 2; ++i) K(2 * a + i, 18 + c) -= w * J * sg.div(a, i) * p.N4[c];
     // Darcy rows: dJ = J div(Du); d(J k) = (k + J k') dJ; d(gp) = -l^T gp with l = e_k (x) g_b.
     for (int c = 0; c < 4; ++c) {
       const double gc_dot_gradp = gp[c][0] * grad_p[0] + gp[c][1] * grad_p[1];
       for (int b = 0; b < 9; ++b)
         for (int kk = 0; kk < 2; ++kk) {
-          const double dJ = J * D[b][kk];
-          const double gb_gc = g[b][0] * gp[c][0] + g[b][1] * gp[c][1];
-          const double gb_gradp = g[b][0] * grad_p[0] + g[b][1] * grad_p[1];
+          const double dJ = J * sg.div(b, kk);
+          const double gb_gc = sg.g[b][0] * gp[c][0] + sg.g[b][1] * gp[c][1];
+          const double gb_gradp = sg.g[b][0] * grad_p[0] + sg.g[b][1] * grad_p[1];
           const double d_flux =
               (k + J * dk) * dJ * gc_dot_gradp - J * k * (gb_gc * grad_p[kk] + gp[c][kk] * gb_gradp);
           K(18 + c, 2 * b + kk) += w * (p.N4[c] * dJ + dt * d_flux);

@@ -15,6 +15,7 @@
 #include <zlib.h>
 
 #include "tocd/core/atomic_file.hpp"
+#include "tocd/core/enum_names.hpp"
 #include "tocd/core/error.hpp"
 
 namespace tocd::sim::vtk {
@@ -179,14 +180,18 @@ void check(const std::vector<DataArray>& arrays, std::size_t count, const char* 
 
 }  // namespace
 
+namespace {
+constexpr std::array<EnumName<Format>, 2> kFormatNames{
+    {{Format::binary, "binary"}, {Format::ascii, "ascii"}}};
+}  // namespace
+
 Format parse_format(std::string_view name) {
-  if (name == "binary") return Format::binary;
-  if (name == "ascii") return Format::ascii;
-  throw tocd::ConfigError(fmt::format("VTU format must be 'binary' or 'ascii', got '{}'", name));
+  if (const auto f = value_of(kFormatNames, name)) return *f;
+  throw tocd::ConfigError(fmt::format("VTU format must be {}, got '{}'", name_list(kFormatNames), name));
 }
 
 const char* to_string(Format format) {
-  return format == Format::ascii ? "ascii" : "binary";
+  return name_of(kFormatNames, format).data();  // the table's names are literals
 }
 
 void write_vtu(const UnstructuredGrid& g, const std::filesystem::path& path, Format format) {

@@ -294,6 +294,52 @@ std::string all_events(const tocd::db::Reader& r, std::int64_t run) {
   return out;
 }
 
+// Some fault, interlock, state or step event of the run names `text`.
+void expect_an_event_naming(const fs::path& path, std::int64_t run, const std::string& text) {
+  const tocd::db::Reader r(path);
+  bool named = false;
+  for (const auto& e : r.events(run))
+    named = named || ((e.kind == "fault" || e.kind == "interlock" || e.kind == "state" || e.kind == "step") &&
+                      e.message.find(text) != std::string::npos);
+  EXPECT_TRUE(named) << "no event names '" << text << "':\n" << all_events(r, run);
+}
+
+// The run completed every step, each recorded where the step wants it, from a window during
+// which no instrument fault was recorded.
+void expect_every_step_where_it_should_be(const fs::path& path, std::int64_t run, const Protocol& protocol,
+                                          bool vacuum, double vacuum_reached_kPa) {
+  const tocd::db::Reader r(path);
+  EXPECT_EQ(r.run(run).status, tocd::db::RunStatus::completed) << all_events(r, run);
+  const auto steps = r.steps(run);
+  ASSERT_EQ(steps.size(), protocol.steps.size()) << all_events(r, run);
+  const auto events = r.events(run);
+  const auto displacement = r.channel(run, "displacement");
+  const auto pressure = r.channel(run, "pressure");
+  for (const auto& s : steps) {
+    EXPECT_TRUE(s.completed);
+    // Recorded where the step wants it...
+    if (vacuum) {
+      ASSERT_TRUE(pressure);
+      EXPECT_NEAR(s.stats_for(pressure->id)->mean, protocol.steps[s.index].pressure_kPa, vacuum_reached_kPa)
+          << "step " << s.index;
+    } else {
+      ASSERT_TRUE(displacement);
+      EXPECT_NEAR(s.stats_for(displacement->id)->mean, protocol.steps[s.index].displacement_mm,
+                  protocol.position_tolerance_mm)
+          << "step " << s.index;
+    }
+    // ...from a window during which no instrument fault was recorded.
+    for (const auto& e : events) {
+      // An instrument the protocol does not use voids no window (its faults say so).
+      if (e.message.find("not used by this protocol") != std::string::npos) continue;
+      if (e.kind == "fault" && e.t_ns >= s.recorded_from_t_ns && e.t_ns <= s.recorded_to_t_ns) {
+        ADD_FAILURE() << "step " << s.index << " completed from a window with the fault: " << e.message;
+      }
+    }
+    EXPECT_TRUE(std::isfinite(s.measured_transmission) && s.measured_transmission > 0.0);
+  }
+}
+
 }  // namespace
 
 TEST_P(FaultMatrix, NoStepIsCompletedAtAWrongPositionOrFromAFaultyWindow) {
@@ -348,16 +394,7 @@ TEST_P(FaultMatrix, NoStepIsCompletedAtAWrongPositionOrFromAFaultyWindow) {
       EXPECT_NE(engine.error().find("storage"), std::string::npos) << engine.error();
     }
   }
-  if (!cell.event_text.empty()) {
-    const tocd::db::Reader r(path);
-    const std::string events = all_events(r, run);
-    bool named = false;
-    for (const auto& e : r.events(run))
-      named =
-          named || ((e.kind == "fault" || e.kind == "interlock" || e.kind == "state" || e.kind == "step") &&
-                    e.message.find(cell.event_text) != std::string::npos);
-    EXPECT_TRUE(named) << "no event names '" << cell.event_text << "':\n" << events;
-  }
+  if (!cell.event_text.empty()) expect_an_event_naming(path, run, cell.event_text);
   if (first_end != EngineState::completed) {
     EXPECT_EQ(first_end, EngineState::interrupted);
     if (cell.repair) cell.repair(rig);
@@ -368,37 +405,7 @@ TEST_P(FaultMatrix, NoStepIsCompletedAtAWrongPositionOrFromAFaultyWindow) {
     EXPECT_EQ(engine.wait(), EngineState::completed) << engine.error();
   }
 
-  const tocd::db::Reader r(path);
-  EXPECT_EQ(r.run(run).status, tocd::db::RunStatus::completed) << all_events(r, run);
-  const auto steps = r.steps(run);
-  ASSERT_EQ(steps.size(), protocol.steps.size()) << all_events(r, run);
-  const auto events = r.events(run);
-  const auto displacement = r.channel(run, "displacement");
-  const auto pressure = r.channel(run, "pressure");
-  for (const auto& s : steps) {
-    EXPECT_TRUE(s.completed);
-    // Recorded where the step wants it...
-    if (cell.vacuum) {
-      ASSERT_TRUE(pressure);
-      EXPECT_NEAR(s.stats_for(pressure->id)->mean, protocol.steps[s.index].pressure_kPa,
-                  opt.vacuum_reached_kPa)
-          << "step " << s.index;
-    } else {
-      ASSERT_TRUE(displacement);
-      EXPECT_NEAR(s.stats_for(displacement->id)->mean, protocol.steps[s.index].displacement_mm,
-                  protocol.position_tolerance_mm)
-          << "step " << s.index;
-    }
-    // ...from a window during which no instrument fault was recorded.
-    for (const auto& e : events) {
-      // An instrument the protocol does not use voids no window (its faults say so).
-      if (e.message.find("not used by this protocol") != std::string::npos) continue;
-      if (e.kind == "fault" && e.t_ns >= s.recorded_from_t_ns && e.t_ns <= s.recorded_to_t_ns) {
-        ADD_FAILURE() << "step " << s.index << " completed from a window with the fault: " << e.message;
-      }
-    }
-    EXPECT_TRUE(std::isfinite(s.measured_transmission) && s.measured_transmission > 0.0);
-  }
+  expect_every_step_where_it_should_be(path, run, protocol, cell.vacuum, opt.vacuum_reached_kPa);
 }
 
 namespace {

@@ -4,6 +4,7 @@
 // succeed within its timeouts, and SIGTERM must stop simlab within 1 s.
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -174,10 +175,101 @@ class SimlabUnderLoad : public ::testing::Test {
     fs::remove_all(dir_, ec);
   }
 
+  // `tocdlab devices probe` itself, as a user runs it: the worst of three, process start included.
+  double worst_probe_run_ms() {
+    double worst = 0;
+    for (int i = 0; i < 3; ++i) {
+      const auto t0 = Clock::now();
+      const pid_t probe =
+          spawn({TOCDLAB_EXE, "devices", "probe", "--lab", lab_file_.string()}, dir_ / "probe.log");
+      EXPECT_GT(probe, 0);
+      if (probe <= 0) return HUGE_VAL;
+      const auto rc = wait_exit(probe, 20s);
+      worst = std::max(worst, ms_since(t0));
+      EXPECT_TRUE(rc.has_value()) << "probe hung";
+      if (!rc) return HUGE_VAL;
+      EXPECT_EQ(*rc, 0) << slurp(dir_ / "probe.log");
+    }
+    return worst;
+  }
+
   fs::path dir_, lab_file_;
   pid_t simlab_ = -1;
   tocd::devices::LabConfig lab_;
 };
+
+// The clients that press on the simulated lab's limits, each on a thread of its own; the load
+// ends however the test leaves (a failed assertion or an exception included).
+struct Load {
+  std::atomic<bool> done{false};
+  std::atomic<int> slow_dropped{0}, deaf_dropped{0};
+  std::vector<std::thread> threads;
+
+  // Slow-byte clients: Modbus read requests to the tester, an endless line to the meter.
+  void start_slow_clients(int tester_port, int meter_port) {
+    threads.emplace_back([this, tester_port, meter_port] {
+      const std::string modbus_read("\0\1\0\0\0\6\1\4\0\0\0\6", 12);
+      std::vector<SlowClient> clients;
+      for (int i = 0; i < kSlowClients; ++i)
+        clients.push_back(i % 2 ? SlowClient{meter_port, "MEAS?;MEAS?;MEAS?"}
+                                : SlowClient{tester_port, modbus_read});
+      while (!done) {
+        for (auto& c : clients) c.tick();
+        std::this_thread::sleep_for(80ms);
+      }
+      for (auto& c : clients) {
+        ::close(c.fd);
+        slow_dropped += c.dropped;
+      }
+    });
+  }
+  // A meter client that sends queries and never reads an answer (reconnecting when dropped).
+  void start_deaf_client(int meter_port) {
+    threads.emplace_back([this, meter_port] {
+      std::string burst;
+      for (int i = 0; i < 100; ++i) burst += "*IDN?\n";
+      int fd = -1;
+      while (!done) {
+        if (fd < 0) fd = connect_to(meter_port, 4096);
+        if (::send(fd, burst.data(), burst.size(), MSG_NOSIGNAL | MSG_DONTWAIT) < 0 && errno != EAGAIN &&
+            errno != ENOTCONN) {
+          ::close(fd);
+          fd = -1;
+          ++deaf_dropped;
+        }
+        std::this_thread::sleep_for(2ms);
+      }
+      ::close(fd);
+    });
+  }
+  void stop() {
+    done = true;
+    for (auto& t : threads)
+      if (t.joinable()) t.join();
+  }
+  ~Load() { stop(); }
+};
+
+// The same driver calls as `devices probe`, in-process, without retries (any stall is an
+// error): the worst tester read and meter reading of ten, in ms.
+std::pair<double, double> worst_driver_calls_ms(const tocd::devices::LabConfig& lab) {
+  tocd::devices::LabConfig no_retries;
+  no_retries.tester = lab.tester;
+  no_retries.tester->link.retries = 0;
+  no_retries.power_meter = lab.power_meter;
+  no_retries.power_meter->retries = 0;
+  double worst_tester_ms = 0, worst_meter_ms = 0;
+  auto rig = tocd::devices::open_lab(no_retries);
+  for (int i = 0; i < 10; ++i) {
+    auto t0 = Clock::now();
+    EXPECT_NO_THROW(rig.tester->read());
+    worst_tester_ms = std::max(worst_tester_ms, ms_since(t0));
+    t0 = Clock::now();
+    EXPECT_NO_THROW(rig.power_meter->measure());
+    worst_meter_ms = std::max(worst_meter_ms, ms_since(t0));
+  }
+  return {worst_tester_ms, worst_meter_ms};
+}
 
 }  // namespace
 
@@ -194,86 +286,14 @@ TEST_F(SimlabUnderLoad, ProbeSucceedsAndSigtermStopsWithinOneSecond) {
   }
   ASSERT_EQ(established(idle), kIdleConnections);
 
-  std::atomic<bool> done{false};
-  std::atomic<int> slow_dropped{0}, deaf_dropped{0};
-  // Ends the load however the test leaves (a failed assertion or an exception included).
-  struct Load {
-    std::atomic<bool>& done;
-    std::vector<std::thread> threads;
-    void stop() {
-      done = true;
-      for (auto& t : threads)
-        if (t.joinable()) t.join();
-    }
-    ~Load() { stop(); }
-  } load{done, {}};
-  // Slow-byte clients: Modbus read requests to the tester, an endless line to the meter.
-  const std::string modbus_read("\0\1\0\0\0\6\1\4\0\0\0\6", 12);
-  load.threads.emplace_back([&] {
-    std::vector<SlowClient> clients;
-    for (int i = 0; i < kSlowClients; ++i)
-      clients.push_back(i % 2 ? SlowClient{meter_port, "MEAS?;MEAS?;MEAS?"}
-                              : SlowClient{tester_port, modbus_read});
-    while (!done) {
-      for (auto& c : clients) c.tick();
-      std::this_thread::sleep_for(80ms);
-    }
-    for (auto& c : clients) {
-      ::close(c.fd);
-      slow_dropped += c.dropped;
-    }
-  });
-  // A meter client that sends queries and never reads an answer (reconnecting when dropped).
-  load.threads.emplace_back([&] {
-    std::string burst;
-    for (int i = 0; i < 100; ++i) burst += "*IDN?\n";
-    int fd = -1;
-    while (!done) {
-      if (fd < 0) fd = connect_to(meter_port, 4096);
-      if (::send(fd, burst.data(), burst.size(), MSG_NOSIGNAL | MSG_DONTWAIT) < 0 && errno != EAGAIN &&
-          errno != ENOTCONN) {
-        ::close(fd);
-        fd = -1;
-        ++deaf_dropped;
-      }
-      std::this_thread::sleep_for(2ms);
-    }
-    ::close(fd);
-  });
+  Load load;
+  load.start_slow_clients(tester_port, meter_port);
+  load.start_deaf_client(meter_port);
   // Long enough for the endless lines to pass the 2 s request deadline: the load is on.
   std::this_thread::sleep_for(2500ms);
 
-  // The same driver calls as `devices probe`, in-process, without retries: any stall is an error.
-  tocd::devices::LabConfig no_retries;
-  no_retries.tester = lab_.tester;
-  no_retries.tester->link.retries = 0;
-  no_retries.power_meter = lab_.power_meter;
-  no_retries.power_meter->retries = 0;
-  double worst_tester_ms = 0, worst_meter_ms = 0;
-  {
-    auto rig = tocd::devices::open_lab(no_retries);
-    for (int i = 0; i < 10; ++i) {
-      auto t0 = Clock::now();
-      EXPECT_NO_THROW(rig.tester->read());
-      worst_tester_ms = std::max(worst_tester_ms, ms_since(t0));
-      t0 = Clock::now();
-      EXPECT_NO_THROW(rig.power_meter->measure());
-      worst_meter_ms = std::max(worst_meter_ms, ms_since(t0));
-    }
-  }
-  // `tocdlab devices probe` itself, as a user runs it.
-  double worst_probe_ms = 0;
-  for (int i = 0; i < 3; ++i) {
-    const auto t0 = Clock::now();
-    const pid_t probe =
-        spawn({TOCDLAB_EXE, "devices", "probe", "--lab", lab_file_.string()}, dir_ / "probe.log");
-    ASSERT_GT(probe, 0);
-    const auto rc = wait_exit(probe, 20s);
-    worst_probe_ms = std::max(worst_probe_ms, ms_since(t0));
-    ASSERT_TRUE(rc.has_value()) << "probe hung";
-    EXPECT_EQ(*rc, 0) << slurp(dir_ / "probe.log");
-  }
-
+  const auto [worst_tester_ms, worst_meter_ms] = worst_driver_calls_ms(lab_);
+  const double worst_probe_ms = worst_probe_run_ms();
   const int displaced = closed_by_server(idle);
   const auto t0 = Clock::now();
   ASSERT_EQ(::kill(simlab_, SIGTERM), 0);
@@ -287,8 +307,8 @@ TEST_F(SimlabUnderLoad, ProbeSucceedsAndSigtermStopsWithinOneSecond) {
       "under load: tester read worst %.1f ms, meter reading worst %.1f ms, `devices probe` worst %.0f ms "
       "(process start included); %d idle connections displaced, slow clients dropped %d times, the deaf "
       "client %d times; SIGTERM to exit %.1f ms\n",
-      worst_tester_ms, worst_meter_ms, worst_probe_ms, displaced, slow_dropped.load(), deaf_dropped.load(),
-      stop_ms);
+      worst_tester_ms, worst_meter_ms, worst_probe_ms, displaced, load.slow_dropped.load(),
+      load.deaf_dropped.load(), stop_ms);
   ASSERT_TRUE(rc.has_value()) << "simlab ignored SIGTERM for 5 s";
   EXPECT_EQ(*rc, 0);
   EXPECT_LT(stop_ms, 1000.0);
@@ -299,6 +319,6 @@ TEST_F(SimlabUnderLoad, ProbeSucceedsAndSigtermStopsWithinOneSecond) {
   // The load really pressed on every limit: idle connections beyond 2 x 256 made room for newer
   // ones, endless lines passed the deadline, the deaf client's backlog passed its cap.
   EXPECT_GE(displaced, kIdleConnections - 2 * 256);
-  EXPECT_GT(slow_dropped.load(), 0);
-  EXPECT_GT(deaf_dropped.load(), 0);
+  EXPECT_GT(load.slow_dropped.load(), 0);
+  EXPECT_GT(load.deaf_dropped.load(), 0);
 }

@@ -82,6 +82,17 @@ TEST(MaterialFit, BadInputIsRejectedWithAMessage) {
   EXPECT_THROW(mat::fit_uniaxial({0.1, 1.2, 0.3}, {1, 2, 3}, mat::FitModel::neo_hookean), mat::MaterialError);
   EXPECT_THROW(mat::fit_uniaxial({0.1, 0.2, 0.3}, {0, 0, 0}, mat::FitModel::neo_hookean), mat::MaterialError);
   EXPECT_THROW(mat::parse_fit_model("ogden4"), mat::MaterialError);
+  // Every model's name reads back, and an unknown one is told the valid names.
+  for (auto m : {mat::FitModel::ogden1, mat::FitModel::ogden2, mat::FitModel::ogden3,
+                 mat::FitModel::neo_hookean, mat::FitModel::mooney_rivlin, mat::FitModel::yeoh})
+    EXPECT_EQ(mat::parse_fit_model(mat::to_string(m)), m) << mat::to_string(m);
+  try {
+    mat::parse_fit_model("ogden4");
+  } catch (const mat::MaterialError& e) {
+    EXPECT_NE(std::string(e.what()).find("ogden1, ogden2, ogden3, neo-hookean, mooney-rivlin or yeoh"),
+              std::string::npos)
+        << e.what();
+  }
   try {
     mat::fit_uniaxial({0.1, NAN, 0.3}, {1, 2, 3}, mat::FitModel::neo_hookean);
     FAIL();

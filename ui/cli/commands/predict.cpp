@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -166,11 +167,9 @@ void run_predict(PredictOptions o) {
   print_prediction(r, p);
 }
 
-void install_predict(CLI::App& root) {
-  auto* cmd =
-      root.add_subcommand("predict", "Predict transmission for one pin-compression step (see docs/study.md)");
-  auto o = std::make_shared<PredictOptions>();
-  auto& r = o->request;
+// The step's geometry, optics, Monte Carlo and output options.
+void add_step_options(CLI::App* cmd, PredictOptions& o) {
+  auto& r = o.request;
   cmd->add_option("--displacement", r.displacement_mm, "pin displacement into the skin (mm)")
       ->check(cli::real_in(0.0, 100.0))
       ->capture_default_str();
@@ -188,7 +187,7 @@ void install_predict(CLI::App& root) {
                   "optics; docs/water.md)")
       ->check(CLI::IsMember({"threshold", "graded", "water"}))
       ->capture_default_str();
-  cmd->add_option("--compressed-optics", o->compressed,
+  cmd->add_option("--compressed-optics", o.compressed,
                   "threshold model: optics of the compressed region (native, a80, ..., cleared, MU_A/MU_S/N)")
       ->capture_default_str();
   cmd->add_option("--graded-bins", r.graded.bins, "graded model: optics levels")
@@ -208,24 +207,32 @@ void install_predict(CLI::App& root) {
       ->check(cli::whole_in(std::int64_t{0}, std::int64_t{cli::kMaxThreads}))
       ->capture_default_str();
   cmd->add_flag("--baseline", r.baseline, "glass only: pin tip on the slide, no skin");
-  cmd->add_option("--config", o->config_path,
+  cmd->add_option("--config", o.config_path,
                   "reproduce a prediction from its config JSON, its --json output, or a run's stored "
                   "predictions.config_json (T relative to the glass-only baseline)");
   cmd->add_option("--fluence-dir", r.fluence_dir, "write fluence .vtu and slice CSVs here")
       ->check(cli::output_dir());
   tocd::cli::add_vtu_format_option(cmd, r.vtu_format);
-  cmd->add_flag("--json", o->json, "machine-readable output with config and artefacts");
+  cmd->add_flag("--json", o.json, "machine-readable output with config and artefacts");
+}
+
+// --db/--run/--output-dir: a recorded run's stored predictions again, as a .pvd series.
+void add_series_options(CLI::App* cmd, PredictOptions& o) {
   auto* db =
-      cmd->add_option("--db", o->series.db, "with --run and --output-dir: re-run a run's stored predictions");
-  auto* run = cmd->add_option("--run", o->series.run, "run id whose steps to re-run (see tocdlab runs)")
+      cmd->add_option("--db", o.series.db, "with --run and --output-dir: re-run a run's stored predictions");
+  auto* run = cmd->add_option("--run", o.series.run, "run id whose steps to re-run (see tocdlab runs)")
                   ->check(cli::whole_in(std::int64_t{1}, std::numeric_limits<std::int64_t>::max()));
-  auto* dir = cmd->add_option("--output-dir", o->series.output_dir,
+  auto* dir = cmd->add_option("--output-dir", o.series.output_dir,
                               "write each step's fluence .vtu and the series run.pvd here")
                   ->check(cli::output_dir());
   db->needs(run)->needs(dir)->excludes("--config");
   run->needs(db);
   dir->needs(db);
-  auto& w = o->water;
+}
+
+// The options of --optics water only; the callback refuses them with other optics.
+std::vector<const CLI::Option*> add_water_options(CLI::App* cmd, PredictOptions& o) {
+  auto& w = o.water;
   auto* hold =
       cmd->add_option("--hold-s", w.hold_s, "water optics: length of the hold (s); T at 0, 1/6, 1/2, 1 of it")
           ->check(cli::real_above(0.0, 1e6))
@@ -246,10 +253,20 @@ void install_predict(CLI::App& root) {
                              "water optics: permeability at the reference state (mm^4/(N s))")
                  ->check(cli::real_above(0.0, 1e6))
                  ->capture_default_str();
-  cmd->callback([o, cmd, hold, times, ramp, nu, k0] {
+  return {hold, times, ramp, nu, k0};
+}
+
+void install_predict(CLI::App& root) {
+  auto* cmd =
+      root.add_subcommand("predict", "Predict transmission for one pin-compression step (see docs/study.md)");
+  auto o = std::make_shared<PredictOptions>();
+  add_step_options(cmd, *o);
+  add_series_options(cmd, *o);
+  const auto water_only = add_water_options(cmd, *o);
+  cmd->callback([o, cmd, water_only] {
     const bool water = o->request.optics_model == "water";
     if (!water) {
-      for (const CLI::Option* opt : {hold, times, ramp, nu, k0})
+      for (const CLI::Option* opt : water_only)
         if (opt->count() > 0) throw CLI::ValidationError(opt->get_name(), "needs --optics water");
       run_predict(*o);
       return;
