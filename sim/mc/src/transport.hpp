@@ -186,6 +186,279 @@ struct Packet {
   [[no_unique_address]] PathRecord<kRecordPaths> path;
 };
 
+namespace detail {
+
+/// One batch's transport (transport_batch below): the kernel's data, the batch's running
+/// tallies and the steps of a packet's life as methods. Every method is always inlined into
+/// run(), and the object lives on the caller's stack without its address escaping, so the
+/// compiler keeps the running tallies in registers as it did for the locals of one function:
+/// it cannot do so for the tally's own fields across stores through the tally's arrays.
+template <bool kDerivatives>
+class BatchTransport {
+ public:
+  using Packet = mc::Packet<kDerivatives>;
+
+  TOCD_MC_INLINE BatchTransport(const KernelTet* tets, const KernelLink* links, const KernelOptics* optics,
+                                const KernelSettings& s, BatchTally& tally)
+      : tets_(tets),
+        links_(links),
+        optics_(optics),
+        s_(s),
+        tally_(tally),
+        absorbed_per_tet_(tally.absorbed_per_tet),
+        absorbed_per_region_(tally.absorbed_per_region),
+        exit_per_group_(tally.exit_per_group),
+        regions_(tally.regions) {}
+
+  /// Packets in flight, advanced in turn one step each, each relaunched from next_photon when
+  /// it ends, until the batch has no photons left; then the running tallies go to the tally.
+  template <class NextPhoton>
+  TOCD_MC_INLINE void run(NextPhoton& next_photon) {
+    Entry entry;
+    // Seeds the slot with photons until one enters the mesh; false when the batch is used up.
+    auto launch = [&](Packet& ph) TOCD_MC_INLINE {
+      while (next_photon(ph.rng, entry)) {
+        if (enter(ph, entry)) return true;
+      }
+      return false;
+    };
+    Packet packet[kPacketsInFlight];
+    bool live[kPacketsInFlight];
+    bool any = false;
+    if constexpr (kDerivatives) {
+      for (int i = 0; i < kPacketsInFlight; ++i) {
+        packet[i].path.length = tally_.path_scratch + 2 * i * regions_;
+        packet[i].path.scatters = packet[i].path.length + regions_;
+      }
+    }
+    for (int i = 0; i < kPacketsInFlight; ++i) {
+      live[i] = launch(packet[i]);
+      any = any || live[i];
+    }
+    while (any) {
+      any = false;
+#pragma GCC unroll 8
+      for (int i = 0; i < kPacketsInFlight; ++i) {
+        if (live[i] && !step(packet[i])) live[i] = launch(packet[i]);
+        any = any || live[i];
+      }
+    }
+    tally_.roulette += roulette_;
+    tally_.lost += lost_;
+    tally_.specular += specular_;
+    tally_.missed += missed_;
+    tally_.events += events_;
+    tally_.face_hits += face_hits_;
+  }
+
+ private:
+  // Perturbation Monte Carlo of the transmittance. The kernel weights by the albedo: free
+  // paths are sampled with mu_t (density mu_t^k_r exp(-mu_t L_r) for k_r interactions and
+  // path length L_r in region r), and each interaction keeps the fraction mu_s/mu_t of the
+  // weight. The product weight x density of an exiting history is thus
+  //   prod_r mu_s,r^k_r exp(-(mu_a,r + mu_s,r) L_r) x (factors free of mu_a and mu_s),
+  // and reweighting the same history to other coefficients multiplies its weight by the
+  // ratio of those products. Its derivative at the sampled coefficients is the score
+  //   dw/dmu_a,r = -w L_r,   dw/dmu_s,r = w (k_r / mu_s,r - L_r).
+  // Ballistic regions absorb continuously (w *= exp(-mu_a L) along the straight flight) and
+  // do not scatter at all, so their weight depends on mu_a alone: dw/dmu_a = -w L_r and
+  // dw/dmu_s = 0 (the model neglects their scattering). Fresnel splits, the entry and the
+  // phase function do not depend on mu_a or mu_s; roulette keeps the expected weight for any
+  // weight, so the scores stay unbiased with it.
+  TOCD_MC_INLINE void score_derivatives(const Packet& ph) {
+    if constexpr (kDerivatives) {
+      for (std::int32_t r = 0; r < regions_; ++r) {
+        const double len = ph.path.length[r];
+        if (len == 0.0) continue;  // never entered the region
+        tally_.dT_dmu_a_per_region[r] -= ph.w * len;
+        const KernelOptics& o = optics_[r];
+        if (!o.ballistic && o.mu_s > 0.0)
+          tally_.dT_dmu_s_per_region[r] += ph.w * (ph.path.scatters[r] / o.mu_s - len);
+      }
+    }
+  }
+
+  TOCD_MC_INLINE void deposit(std::int32_t t, std::int32_t slot, double dep) {
+    if (absorbed_per_tet_) absorbed_per_tet_[t] += dep;
+    absorbed_per_region_[slot] += dep;
+  }
+  TOCD_MC_INLINE void enter_tet(std::int32_t t) {
+    prefetch_neighbours(tets_, links_, links_[t]);
+    if (absorbed_per_tet_) __builtin_prefetch(absorbed_per_tet_ + t, 1);  // the next deposit goes here
+  }
+
+  // Entry through the ambient/mesh interface: deterministic specular split. Returns false
+  // when the packet never enters.
+  TOCD_MC_INLINE bool enter(Packet& ph, const Entry& entry) {
+    if (entry.tet < 0) {
+      missed_ += 1.0;
+      return false;
+    }
+    ph.w = 1.0;
+    for (int c = 0; c < 3; ++c) {
+      ph.p[c] = entry.pos[c] - s_.origin[c];
+      ph.u[c] = entry.dir[c];
+    }
+    ph.tet = entry.tet;
+    ph.steps = 0;
+    const KernelTet& k = tets_[ph.tet];
+    const int f = entry.face;
+    const double m[3] = {-k.nx[f], -k.ny[f], -k.nz[f]};
+    const double cos_i = ph.u[0] * m[0] + ph.u[1] * m[1] + ph.u[2] * m[2];
+    const double n2 = optics_[links_[ph.tet].region_slot].n;
+    double cos_t;
+    const double r = fresnel_reflectance(s_.ambient_n, n2, cos_i, cos_t);
+    if (r >= 1.0) {  // cannot enter at all (denser ambient beyond the critical angle)
+      specular_ += 1.0;
+      return false;
+    }
+    if (s_.entry_specular) {
+      specular_ += r;
+      ph.w = 1.0 - r;
+    }
+    if (s_.ambient_n != n2) refract(ph.u, m, s_.ambient_n / n2, cos_i, cos_t);
+    enter_tet(ph.tet);
+    if constexpr (kDerivatives) {
+      for (std::int32_t q = 0; q < regions_; ++q) ph.path.length[q] = ph.path.scatters[q] = 0.0;
+    }
+    ph.tau = -log_unit(ph.rng.uniform());
+    return true;
+  }
+
+  // Russian roulette for a light packet: survive 1 in `chance` with `chance` times the
+  // weight, so the expected weight is unchanged. Returns false when the packet died.
+  TOCD_MC_INLINE bool survives_roulette(Packet& ph) {
+    if (ph.w >= s_.roulette_threshold) return true;
+    if (ph.rng.uniform() * s_.roulette_chance < 1.0) {
+      roulette_ -= ph.w * (s_.roulette_chance - 1.0);
+      ph.w *= s_.roulette_chance;
+      return true;
+    }
+    roulette_ += ph.w;
+    return false;
+  }
+
+  // An interaction at distance `dist` inside the current tet: move, deposit the absorbed
+  // fraction (implicit capture), deflect, play roulette, draw the next optical depth.
+  // Returns false when the packet died in roulette.
+  TOCD_MC_INLINE bool interact(Packet& ph, const KernelLink& k, const KernelOptics& o, double dist) {
+    for (int c = 0; c < 3; ++c) ph.p[c] += dist * ph.u[c];
+    if constexpr (kDerivatives) {
+      ph.path.length[k.region_slot] += dist;
+      ph.path.scatters[k.region_slot] += 1.0;
+    }
+    const double dep = ph.w * o.absorb_fraction;
+    deposit(ph.tet, k.region_slot, dep);
+    ph.w -= dep;
+    ++events_;
+    scatter(ph.u, o, ph.rng);
+    if (!survives_roulette(ph)) return false;
+    ph.tau = -log_unit(ph.rng.uniform());
+    return true;
+  }
+
+  // One step of a packet: an interaction inside its tet, or a move to the nearest face and
+  // the crossing of (or reflection off) it. Returns false when the packet ended.
+  TOCD_MC_INLINE bool step(Packet& ph) {
+    if (++ph.steps > s_.max_steps) {
+      lost_ += ph.w;
+      return false;
+    }
+    const KernelTet& k = tets_[ph.tet];
+    const KernelLink& link = links_[ph.tet];
+    const KernelOptics& o = optics_[link.region_slot];
+    const double* const p = ph.p;
+    const double* const u = ph.u;
+    // cos of the direction with each outward normal, and distance of p inside each plane, for
+    // the four faces at once (one vector lane per face).
+    const Lanes4 nx = widen(k.nx), ny = widen(k.ny), nz = widen(k.nz);
+    const Lanes4 cosf = nx * u[0] + ny * u[1] + nz * u[2];
+    const Lanes4 gap = widen(k.offset) - (nx * p[0] + ny * p[1] + nz * p[2]);
+
+    // Fast path, taken by most steps in scattering tissue: the next interaction point
+    // p + s u lies inside this tet iff it is inside all four planes. Four multiply-adds and a
+    // min, no division and no data-dependent branch per face.
+    const double to_event = o.ballistic ? HUGE_VAL : ph.tau * o.inv_mu_t;
+    if (!o.ballistic) {
+      if (min_lane(gap - to_event * cosf) >= 0.0) return interact(ph, link, o, to_event);
+    }
+
+    // Slow path: the nearest face the packet moves towards. Slightly negative distances
+    // (round-off puts p a hair outside a plane) are clamped to 0.
+    // Written as selects, not branches: which face wins is unpredictable.
+    const Lanes4 q = gap / cosf;
+    const Lanes4 zero = {0.0, 0.0, 0.0, 0.0}, never = {HUGE_VAL, HUGE_VAL, HUGE_VAL, HUGE_VAL};
+    const Lanes4 d = cosf > zero ? (q > zero ? q : zero) : never;
+    const int f01 = d[1] < d[0] ? 1 : 0, f23 = d[3] < d[2] ? 3 : 2;
+    const int face = d[f23] < d[f01] ? f23 : f01;
+    const double best = d[face];
+    if (best == HUGE_VAL) {  // zero direction: cannot happen for unit u, but never loop
+      lost_ += ph.w;
+      return false;
+    }
+    if (to_event < best) return interact(ph, link, o, to_event);  // round-off corner: inside after all
+    if constexpr (kDerivatives) ph.path.length[link.region_slot] += best;
+    if (o.ballistic) {
+      const double dep = ph.w * (1.0 - std::exp(-o.mu_a * best));
+      deposit(ph.tet, link.region_slot, dep);
+      ph.w -= dep;
+      // Also here: a packet trapped by total internal reflection in weakly absorbing glass
+      // would otherwise bounce until the step guard.
+      if (!survives_roulette(ph)) return false;
+    } else {
+      ph.tau -= best * o.mu_t;
+    }
+    return cross_face(ph, k, link, o, face, cosf[face], best);
+  }
+
+  // Moves the packet `best` to the face and crosses it, or reflects off it (Fresnel). Returns
+  // false when the packet left the mesh.
+  TOCD_MC_INLINE bool cross_face(Packet& ph, const KernelTet& k, const KernelLink& link,
+                                 const KernelOptics& o, int face, double cos_i, double best) {
+    double* const p = ph.p;
+    double* const u = ph.u;
+    ++face_hits_;
+    for (int c = 0; c < 3; ++c) p[c] += best * u[c];
+    const std::int32_t next = link.next[face];
+    const double n1 = o.n;
+    const double n2 = next >= 0 ? optics_[link.next_slot[face]].n : s_.ambient_n;
+    if (n1 != n2) {
+      const double m[3] = {k.nx[face], k.ny[face], k.nz[face]};
+      double cos_t;
+      const double r = fresnel_reflectance(n1, n2, cos_i, cos_t);
+      if (r >= 1.0 || ph.rng.uniform() < r) {
+        for (int c = 0; c < 3; ++c) u[c] -= 2.0 * cos_i * m[c];
+        return true;
+      }
+      refract(u, m, n1 / n2, cos_i, cos_t);
+    }
+    if (next < 0) {
+      exit_per_group_[-1 - next] += ph.w;
+      if constexpr (kDerivatives) {
+        if (tally_.transmittance_group[-1 - next]) score_derivatives(ph);
+      }
+      return false;
+    }
+    ph.tet = next;
+    enter_tet(next);
+    return true;
+  }
+
+  const KernelTet* const tets_;
+  const KernelLink* const links_;
+  const KernelOptics* const optics_;
+  const KernelSettings& s_;
+  BatchTally& tally_;
+  double* const absorbed_per_tet_;
+  double* const absorbed_per_region_;
+  double* const exit_per_group_;
+  const std::int32_t regions_;
+  double roulette_ = 0.0, lost_ = 0.0, specular_ = 0.0, missed_ = 0.0;
+  std::uint64_t events_ = 0, face_hits_ = 0;
+};
+
+}  // namespace detail
+
 /// Transports the packets of one batch from entry to termination (leaving the mesh, dying in
 /// roulette or hitting the step guard); every bit of weight ends in exactly one tally.
 /// `next_photon(PhotonRng&, Entry&)` seeds the next photon's stream and samples its entry;
@@ -202,242 +475,14 @@ struct Packet {
 ///
 /// kDerivatives: each packet also records its path length and interactions per region, and a
 /// packet leaving through a transmittance face scores the derivatives of its weight (see
-/// score_derivatives below). No random draw depends on it: the histories, and every other
-/// tally, are bitwise those of the plain kernel.
+/// BatchTransport::score_derivatives). No random draw depends on it: the histories, and every
+/// other tally, are bitwise those of the plain kernel.
 template <bool kDerivatives = false, class NextPhoton>
 TOCD_MC_INLINE inline void transport_batch(const KernelTet* tets, const KernelLink* links,
                                            const KernelOptics* optics, const KernelSettings& s,
                                            BatchTally& tally, NextPhoton&& next_photon) {
-  // Local copies: the compiler cannot keep tally fields in registers across stores
-  // through the tally's arrays.
-  double* const absorbed_per_tet = tally.absorbed_per_tet;
-  double* const absorbed_per_region = tally.absorbed_per_region;
-  double* const exit_per_group = tally.exit_per_group;
-  double roulette = 0.0, lost = 0.0, specular = 0.0, missed = 0.0;
-  std::uint64_t events = 0, face_hits = 0;
-  using Packet = mc::Packet<kDerivatives>;
-  [[maybe_unused]] const std::int32_t regions = tally.regions;
-
-  // Perturbation Monte Carlo of the transmittance. The kernel weights by the albedo: free
-  // paths are sampled with mu_t (density mu_t^k_r exp(-mu_t L_r) for k_r interactions and
-  // path length L_r in region r), and each interaction keeps the fraction mu_s/mu_t of the
-  // weight. The product weight x density of an exiting history is thus
-  //   prod_r mu_s,r^k_r exp(-(mu_a,r + mu_s,r) L_r) x (factors free of mu_a and mu_s),
-  // and reweighting the same history to other coefficients multiplies its weight by the
-  // ratio of those products. Its derivative at the sampled coefficients is the score
-  //   dw/dmu_a,r = -w L_r,   dw/dmu_s,r = w (k_r / mu_s,r - L_r).
-  // Ballistic regions absorb continuously (w *= exp(-mu_a L) along the straight flight) and
-  // do not scatter at all, so their weight depends on mu_a alone: dw/dmu_a = -w L_r and
-  // dw/dmu_s = 0 (the model neglects their scattering). Fresnel splits, the entry and the
-  // phase function do not depend on mu_a or mu_s; roulette keeps the expected weight for any
-  // weight, so the scores stay unbiased with it.
-  [[maybe_unused]] auto score_derivatives = [&](const Packet& ph) TOCD_MC_INLINE {
-    if constexpr (kDerivatives) {
-      for (std::int32_t r = 0; r < regions; ++r) {
-        const double len = ph.path.length[r];
-        if (len == 0.0) continue;  // never entered the region
-        tally.dT_dmu_a_per_region[r] -= ph.w * len;
-        const KernelOptics& o = optics[r];
-        if (!o.ballistic && o.mu_s > 0.0)
-          tally.dT_dmu_s_per_region[r] += ph.w * (ph.path.scatters[r] / o.mu_s - len);
-      }
-    }
-  };
-
-  auto deposit = [&](std::int32_t t, std::int32_t slot, double dep) TOCD_MC_INLINE {
-    if (absorbed_per_tet) absorbed_per_tet[t] += dep;
-    absorbed_per_region[slot] += dep;
-  };
-  auto enter_tet = [&](std::int32_t t) TOCD_MC_INLINE {
-    detail::prefetch_neighbours(tets, links, links[t]);
-    if (absorbed_per_tet) __builtin_prefetch(absorbed_per_tet + t, 1);  // the next deposit goes here
-  };
-
-  // Entry through the ambient/mesh interface: deterministic specular split. Returns false
-  // when the packet never enters.
-  auto enter = [&](Packet& ph, const Entry& entry) {
-    if (entry.tet < 0) {
-      missed += 1.0;
-      return false;
-    }
-    ph.w = 1.0;
-    for (int c = 0; c < 3; ++c) {
-      ph.p[c] = entry.pos[c] - s.origin[c];
-      ph.u[c] = entry.dir[c];
-    }
-    ph.tet = entry.tet;
-    ph.steps = 0;
-    const KernelTet& k = tets[ph.tet];
-    const int f = entry.face;
-    const double m[3] = {-k.nx[f], -k.ny[f], -k.nz[f]};
-    const double cos_i = ph.u[0] * m[0] + ph.u[1] * m[1] + ph.u[2] * m[2];
-    const double n2 = optics[links[ph.tet].region_slot].n;
-    double cos_t;
-    const double r = fresnel_reflectance(s.ambient_n, n2, cos_i, cos_t);
-    if (r >= 1.0) {  // cannot enter at all (denser ambient beyond the critical angle)
-      specular += 1.0;
-      return false;
-    }
-    if (s.entry_specular) {
-      specular += r;
-      ph.w = 1.0 - r;
-    }
-    if (s.ambient_n != n2) detail::refract(ph.u, m, s.ambient_n / n2, cos_i, cos_t);
-    enter_tet(ph.tet);
-    if constexpr (kDerivatives) {
-      for (std::int32_t q = 0; q < regions; ++q) ph.path.length[q] = ph.path.scatters[q] = 0.0;
-    }
-    ph.tau = -detail::log_unit(ph.rng.uniform());
-    return true;
-  };
-
-  // Russian roulette for a light packet: survive 1 in `chance` with `chance` times the
-  // weight, so the expected weight is unchanged. Returns false when the packet died.
-  auto survives_roulette = [&](Packet& ph) TOCD_MC_INLINE {
-    if (ph.w >= s.roulette_threshold) return true;
-    if (ph.rng.uniform() * s.roulette_chance < 1.0) {
-      roulette -= ph.w * (s.roulette_chance - 1.0);
-      ph.w *= s.roulette_chance;
-      return true;
-    }
-    roulette += ph.w;
-    return false;
-  };
-  // An interaction at distance `dist` inside the current tet: move, deposit the absorbed
-  // fraction (implicit capture), deflect, play roulette, draw the next optical depth.
-  // Returns false when the packet died in roulette.
-  auto interact = [&](Packet& ph, const KernelLink& k, const KernelOptics& o, double dist) TOCD_MC_INLINE {
-    for (int c = 0; c < 3; ++c) ph.p[c] += dist * ph.u[c];
-    if constexpr (kDerivatives) {
-      ph.path.length[k.region_slot] += dist;
-      ph.path.scatters[k.region_slot] += 1.0;
-    }
-    const double dep = ph.w * o.absorb_fraction;
-    deposit(ph.tet, k.region_slot, dep);
-    ph.w -= dep;
-    ++events;
-    detail::scatter(ph.u, o, ph.rng);
-    if (!survives_roulette(ph)) return false;
-    ph.tau = -detail::log_unit(ph.rng.uniform());
-    return true;
-  };
-
-  // One step of a packet: an interaction inside its tet, or a move to the nearest face and
-  // the crossing of (or reflection off) it. Returns false when the packet ended.
-  auto step = [&](Packet& ph) TOCD_MC_INLINE {
-    if (++ph.steps > s.max_steps) {
-      lost += ph.w;
-      return false;
-    }
-    const KernelTet& k = tets[ph.tet];
-    const KernelLink& link = links[ph.tet];
-    const KernelOptics& o = optics[link.region_slot];
-    double* const p = ph.p;
-    double* const u = ph.u;
-    // cos of the direction with each outward normal, and distance of p inside each plane, for
-    // the four faces at once (one vector lane per face).
-    const detail::Lanes4 nx = detail::widen(k.nx), ny = detail::widen(k.ny), nz = detail::widen(k.nz);
-    const detail::Lanes4 cosf = nx * u[0] + ny * u[1] + nz * u[2];
-    const detail::Lanes4 gap = detail::widen(k.offset) - (nx * p[0] + ny * p[1] + nz * p[2]);
-
-    // Fast path, taken by most steps in scattering tissue: the next interaction point
-    // p + s u lies inside this tet iff it is inside all four planes. Four multiply-adds and a
-    // min, no division and no data-dependent branch per face.
-    const double to_event = o.ballistic ? HUGE_VAL : ph.tau * o.inv_mu_t;
-    if (!o.ballistic) {
-      if (detail::min_lane(gap - to_event * cosf) >= 0.0) return interact(ph, link, o, to_event);
-    }
-
-    // Slow path: the nearest face the packet moves towards. Slightly negative distances
-    // (round-off puts p a hair outside a plane) are clamped to 0.
-    // Written as selects, not branches: which face wins is unpredictable.
-    const detail::Lanes4 q = gap / cosf;
-    const detail::Lanes4 zero = {0.0, 0.0, 0.0, 0.0}, never = {HUGE_VAL, HUGE_VAL, HUGE_VAL, HUGE_VAL};
-    const detail::Lanes4 d = cosf > zero ? (q > zero ? q : zero) : never;
-    const int f01 = d[1] < d[0] ? 1 : 0, f23 = d[3] < d[2] ? 3 : 2;
-    const int face = d[f23] < d[f01] ? f23 : f01;
-    const double best = d[face];
-    if (best == HUGE_VAL) {  // zero direction: cannot happen for unit u, but never loop
-      lost += ph.w;
-      return false;
-    }
-    if (to_event < best) return interact(ph, link, o, to_event);  // round-off corner: inside after all
-    if constexpr (kDerivatives) ph.path.length[link.region_slot] += best;
-    if (o.ballistic) {
-      const double dep = ph.w * (1.0 - std::exp(-o.mu_a * best));
-      deposit(ph.tet, link.region_slot, dep);
-      ph.w -= dep;
-      // Also here: a packet trapped by total internal reflection in weakly absorbing glass
-      // would otherwise bounce until the step guard.
-      if (!survives_roulette(ph)) return false;
-    } else {
-      ph.tau -= best * o.mu_t;
-    }
-
-    // Move to the face and cross it, or reflect off it.
-    ++face_hits;
-    for (int c = 0; c < 3; ++c) p[c] += best * u[c];
-    const std::int32_t next = link.next[face];
-    const double n1 = o.n;
-    const double n2 = next >= 0 ? optics[link.next_slot[face]].n : s.ambient_n;
-    if (n1 != n2) {
-      const double m[3] = {k.nx[face], k.ny[face], k.nz[face]};
-      const double cos_i = cosf[face];
-      double cos_t;
-      const double r = fresnel_reflectance(n1, n2, cos_i, cos_t);
-      if (r >= 1.0 || ph.rng.uniform() < r) {
-        for (int c = 0; c < 3; ++c) u[c] -= 2.0 * cos_i * m[c];
-        return true;
-      }
-      detail::refract(u, m, n1 / n2, cos_i, cos_t);
-    }
-    if (next < 0) {
-      exit_per_group[-1 - next] += ph.w;
-      if constexpr (kDerivatives) {
-        if (tally.transmittance_group[-1 - next]) score_derivatives(ph);
-      }
-      return false;
-    }
-    ph.tet = next;
-    enter_tet(next);
-    return true;
-  };
-
-  // Seeds the slot with photons until one enters the mesh; false when the batch is used up.
-  Entry entry;
-  auto launch = [&](Packet& ph) {
-    while (next_photon(ph.rng, entry)) {
-      if (enter(ph, entry)) return true;
-    }
-    return false;
-  };
-  Packet packet[kPacketsInFlight];
-  bool live[kPacketsInFlight];
-  bool any = false;
-  if constexpr (kDerivatives) {
-    for (int i = 0; i < kPacketsInFlight; ++i) {
-      packet[i].path.length = tally.path_scratch + 2 * i * regions;
-      packet[i].path.scatters = packet[i].path.length + regions;
-    }
-  }
-  for (int i = 0; i < kPacketsInFlight; ++i) {
-    live[i] = launch(packet[i]);
-    any = any || live[i];
-  }
-  while (any) {
-    any = false;
-#pragma GCC unroll 8
-    for (int i = 0; i < kPacketsInFlight; ++i) {
-      if (live[i] && !step(packet[i])) live[i] = launch(packet[i]);
-      any = any || live[i];
-    }
-  }
-  tally.roulette += roulette;
-  tally.lost += lost;
-  tally.specular += specular;
-  tally.missed += missed;
-  tally.events += events;
-  tally.face_hits += face_hits;
+  detail::BatchTransport<kDerivatives> transport(tets, links, optics, s, tally);
+  transport.run(next_photon);
 }
 
 }  // namespace tocd::sim::mc
