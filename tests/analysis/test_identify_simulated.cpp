@@ -43,11 +43,11 @@ namespace mocks = tocd::mocks;
 namespace {
 
 // The sample's own transmission table is a Monte Carlo too, and its error is part of the
-// sample: no identification can know it. Tabulated at the identification's photons (50,000,
-// the first 20-sample run), it was as large as the model's own error (0.9-1.2 % of T on sample
-// 5, beside the model's 0.8-1.6 %), so the fit saw half the variance between data and model and
-// the full clearing strain missed in 4 of 9 samples. Ten times the photons bring the table's
-// error to a third of that.
+// sample that no identification can know: at the identification's photons it is as large as
+// the model's own (0.9-1.2 % of T on sample 5, beside 0.8-1.6 %). The long version tabulates
+// at ten times the photons, so that what the test calls the truth is known to a third of that.
+// (It was not why the full clearing strain came out high in the first 20-sample run: sample 5
+// re-identified on tables at 500,000 photons gave 0.444, on 50,000 0.443; docs/identify.md.)
 #ifdef TOCD_IDENTIFY_LONG
 constexpr int kSamples = 20;
 constexpr std::uint64_t kPhotons = 50000;
