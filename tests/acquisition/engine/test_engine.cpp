@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "engine_fixture.hpp"
 #include "fake_rig.hpp"
 #include "protocol_text.hpp"
 #include "tocd/acquisition/compare_table.hpp"
@@ -18,46 +19,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kFactor = 20.0;  // simulated seconds per real second
-
-class EngineTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           fmt::format("tocd_acq_{}_{}", ::getpid(),
-                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    path_ = dir_ / "runs.db";
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  static EngineOptions fast() {
-    EngineOptions o;
-    o.clock_factor = kFactor;
-    return o;
-  }
-
-  /// Polls `pred` every 2 ms for up to `seconds` of real time.
-  template <class Pred>
-  static bool eventually(Pred pred, double seconds = 20.0) {
-    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-    while (std::chrono::steady_clock::now() < end) {
-      if (pred()) return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
-    return pred();
-  }
-
-  static bool has_event(const tocd::db::Reader& r, std::int64_t run, const std::string& kind,
-                        const std::string& text) {
-    for (const auto& e : r.events(run))
-      if (e.kind == kind && e.message.find(text) != std::string::npos) return true;
-    return false;
-  }
-
-  fs::path dir_, path_;
-};
+class EngineTest : public EngineFixture {};
 
 /// Records observer callbacks (called from engine threads).
 struct Recorder : EngineObserver {

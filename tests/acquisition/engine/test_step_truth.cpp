@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sqlite3.h>
 
+#include "engine_fixture.hpp"
 #include "fake_rig.hpp"
 #include "protocol_text.hpp"
 #include "tocd/acquisition/engine.hpp"
@@ -21,43 +22,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kFactor = 20.0;
-
-class StepTruth : public ::testing::Test {
+class StepTruth : public EngineFixture {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           fmt::format("tocd_truth_{}_{}", ::getpid(),
-                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    path_ = dir_ / "runs.db";
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  static EngineOptions fast() {
-    EngineOptions o;
-    o.clock_factor = kFactor;
-    return o;
-  }
-
-  template <class Pred>
-  static bool eventually(Pred pred, double seconds = 20.0) {
-    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-    while (std::chrono::steady_clock::now() < end) {
-      if (pred()) return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
-    return pred();
-  }
-
-  static bool has_event(const tocd::db::Reader& r, std::int64_t run, const std::string& kind,
-                        const std::string& text) {
-    for (const auto& e : r.events(run))
-      if (e.kind == kind && e.message.find(text) != std::string::npos) return true;
-    return false;
-  }
-
   /// Events reach the file through the writer (a commit every 0.1 s): wait for one.
   bool event_lands(std::int64_t run, const std::string& kind, const std::string& text) const {
     return eventually([&] { return has_event(tocd::db::Reader(path_), run, kind, text); }, 5.0);
@@ -80,8 +46,6 @@ class StepTruth : public ::testing::Test {
       EXPECT_NEAR(st->mean, p.steps[s.index].displacement_mm, p.position_tolerance_mm) << "step " << s.index;
     }
   }
-
-  fs::path dir_, path_;
 };
 
 /// Pages the database holds now (its logical size, WAL included).
