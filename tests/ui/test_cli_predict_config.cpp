@@ -14,18 +14,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "cli_runner.hpp"
 #include "tocd/db/reader.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 // One compression step, few photons: the run records it and predicts it (step / baseline).
 constexpr const char* kProtocol = R"(name = "stored config round trip"
@@ -58,12 +52,10 @@ class StoredConfig : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
 
   int tocdlab(const std::string& args) {
-    const std::string cmd =
-        fmt::format("{} {} > {} 2> {}", TOCDLAB_EXE, args, (dir_ / "out").string(), (dir_ / "err").string());
-    const int rc = std::system(cmd.c_str());
-    out_ = slurp(dir_ / "out");
-    err_ = slurp(dir_ / "err");
-    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+    const tocd::test::CliResult r = tocd::test::run_cli(TOCDLAB_EXE, args, dir_);
+    out_ = r.out;
+    err_ = r.err;
+    return r.status;
   }
 
   fs::path dir_ = fs::temp_directory_path() / fmt::format("tocd_stored_config_{}", ::getpid());

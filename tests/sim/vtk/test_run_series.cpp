@@ -12,6 +12,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "cli_runner.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/sim/study/predictor.hpp"
 
@@ -19,13 +20,6 @@ namespace fs = std::filesystem;
 namespace st = tocd::sim::study;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 class RunSeries : public ::testing::Test {
  protected:
@@ -36,12 +30,10 @@ class RunSeries : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
 
   int tocdlab(const std::string& args) {
-    const std::string cmd =
-        fmt::format("{} {} > {} 2> {}", TOCDLAB_EXE, args, (dir_ / "out").string(), (dir_ / "err").string());
-    const int rc = std::system(cmd.c_str());
-    out_ = slurp(dir_ / "out");
-    err_ = slurp(dir_ / "err");
-    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+    const tocd::test::CliResult r = tocd::test::run_cli(TOCDLAB_EXE, args, dir_);
+    out_ = r.out;
+    err_ = r.err;
+    return r.status;
   }
 
   // A run with two steps whose stored configs are what the run engine stores: {"quantity",
