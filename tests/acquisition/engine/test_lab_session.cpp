@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include "engine_fixture.hpp"
 #include "fake_rig.hpp"
 #include "protocol_text.hpp"
 #include "tocd/acquisition/lab_session.hpp"
@@ -21,28 +22,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kFactor = 20.0;  // simulated seconds per real second
-
-class LabSessionTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / fmt::format("tocd_session_{}_{}", ::getpid(), counter_++);
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  template <class Pred>
-  static bool eventually(Pred pred, double seconds = 20.0) {
-    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-    while (std::chrono::steady_clock::now() < end) {
-      if (pred()) return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
-    return pred();
-  }
-  fs::path dir_;
-  static inline int counter_ = 0;
-};
+class LabSessionTest : public EngineFixture {};
 
 }  // namespace
 
