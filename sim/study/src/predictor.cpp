@@ -362,4 +362,26 @@ Predictor::CacheCounts Predictor::cache_counts() const {
   return {impl_->fe.hits(), impl_->fe.misses(), impl_->meshes.hits(), impl_->meshes.misses()};
 }
 
+nlohmann::json to_json(const Prediction& p) {
+  nlohmann::json j = {{"T", p.T},
+                      {"T_se", p.T_stderr},
+                      {"side_loss", p.side_loss},
+                      {"side_loss_se", p.side_loss_stderr},
+                      {"side_loss_slide", p.side_loss_slide},
+                      {"side_loss_slide_se", p.side_loss_slide_stderr},
+                      {"reflectance", p.reflectance},
+                      {"absorbed", p.absorbed},
+                      {"specular", p.specular},
+                      {"tets", p.tets},
+                      {"fe_seconds", p.fe_seconds},
+                      {"mesh_seconds", p.mesh_seconds},
+                      {"mc_seconds", p.mc_seconds},
+                      {"config", p.config},
+                      {"fe_summary", p.fe_summary},
+                      {"mesh_stats", p.mesh_stats},
+                      {"mc", p.mc}};
+  if (!p.fluence.is_null()) j["fluence"] = p.fluence;
+  return j;
+}
+
 }  // namespace tocd::sim::study

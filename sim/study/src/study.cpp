@@ -253,7 +253,7 @@ nlohmann::json to_json(const StudyTable& t) {
   if (!t.fluence_series.empty()) j["fluence_series"] = t.fluence_series;
   auto& rows = j["simulations"] = nlohmann::json::array();
   for (const auto& r : t.rows) {
-    nlohmann::json row;
+    nlohmann::json row = to_json(r.p);  // the prediction's own keys, then the table's
     row["sim"] = r.c.id;
     row["displacement_mm"] = r.c.request.baseline ? 0.0 : r.c.request.displacement_mm;
     row["thickness_mm"] = r.c.request.baseline ? 0.0 : r.c.request.thickness_mm;
@@ -261,29 +261,11 @@ nlohmann::json to_json(const StudyTable& t) {
     row["optics"] = r.c.optics_label;
     row["optics_model"] = r.c.request.optics_model;
     row["compressed_optics"] = to_json(r.c.request.compressed_optics);
-    row["T"] = r.p.T;
-    row["T_se"] = r.p.T_stderr;
     row["T_rel_a"] = num(r.rel_a);
     row["T_rel_a_se"] = num(r.rel_a_se);
     row["T_rel_b"] = num(r.rel_b);
     row["T_rel_b_se"] = num(r.rel_b_se);
-    row["side_loss"] = r.p.side_loss;
-    row["side_loss_se"] = r.p.side_loss_stderr;
-    row["side_loss_slide"] = r.p.side_loss_slide;
-    row["side_loss_slide_se"] = r.p.side_loss_slide_stderr;
-    row["reflectance"] = r.p.reflectance;
-    row["absorbed"] = r.p.absorbed;
-    row["specular"] = r.p.specular;
-    row["tets"] = r.p.tets;
     row["seconds"] = r.seconds;
-    row["fe_seconds"] = r.p.fe_seconds;
-    row["mesh_seconds"] = r.p.mesh_seconds;
-    row["mc_seconds"] = r.p.mc_seconds;
-    row["config"] = r.p.config;
-    row["fe_summary"] = r.p.fe_summary;
-    row["mesh_stats"] = r.p.mesh_stats;
-    row["mc"] = r.p.mc;
-    if (!r.p.fluence.is_null()) row["fluence"] = r.p.fluence;
     rows.push_back(std::move(row));
   }
   return j;

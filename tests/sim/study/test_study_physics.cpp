@@ -57,7 +57,9 @@ void expect_sane(const st::Prediction& p, const char* what, bool raised_index = 
   EXPECT_GT(p.T, 0.0);
   EXPECT_GT(p.T_stderr, 0.0);
   EXPECT_LT(p.T_stderr, 0.05 * p.T);
-  if (!raised_index) EXPECT_LT(p.side_loss, 0.05);
+  if (!raised_index) {
+    EXPECT_LT(p.side_loss, 0.05);
+  }
   EXPECT_GE(p.side_loss_slide, 0.0);
   EXPECT_LE(p.side_loss_slide, p.side_loss);
   EXPECT_LT(p.side_loss - p.side_loss_slide, 0.05);  // through the skin's and air's sides

@@ -38,28 +38,6 @@ struct PredictOptions {
   tocd::cli::PredictWaterOptions water;  // --optics water: T(t) over a hold
 };
 
-nlohmann::json prediction_json(const st::Prediction& p) {
-  nlohmann::json j = {{"T", p.T},
-                      {"T_se", p.T_stderr},
-                      {"side_loss", p.side_loss},
-                      {"side_loss_se", p.side_loss_stderr},
-                      {"side_loss_slide", p.side_loss_slide},
-                      {"side_loss_slide_se", p.side_loss_slide_stderr},
-                      {"reflectance", p.reflectance},
-                      {"absorbed", p.absorbed},
-                      {"specular", p.specular},
-                      {"tets", p.tets},
-                      {"fe_seconds", p.fe_seconds},
-                      {"mesh_seconds", p.mesh_seconds},
-                      {"mc_seconds", p.mc_seconds},
-                      {"config", p.config},
-                      {"fe_summary", p.fe_summary},
-                      {"mesh_stats", p.mesh_stats},
-                      {"mc", p.mc}};
-  if (!p.fluence.is_null()) j["fluence"] = p.fluence;
-  return j;
-}
-
 void print_prediction(const st::PredictionRequest& r, const st::Prediction& p) {
   std::cout << fmt::format("d = {} mm into {} mm skin, optics {} ({}), {} photons, seed {}, mesh '{}'\n",
                            r.displacement_mm, r.thickness_mm, r.optics_model,
@@ -107,8 +85,8 @@ void run_relative(const st::ConfigDocument& d, const st::Prediction& p, const st
                         {"T", rel.T},
                         {"T_se", rel.T_stderr},
                         {"config", {{"quantity", d.quantity}, {"step", p.config}, {"baseline", b.config}}},
-                        {"step", prediction_json(p)},
-                        {"baseline", prediction_json(b)}};
+                        {"step", st::to_json(p)},
+                        {"baseline", st::to_json(b)}};
     cli::print_json(j);
     return;
   }
@@ -161,7 +139,7 @@ void run_predict(PredictOptions o) {
     return;
   }
   if (o.json) {
-    cli::print_json(prediction_json(p));
+    cli::print_json(st::to_json(p));
     return;
   }
   print_prediction(r, p);

@@ -101,6 +101,11 @@ struct Prediction {
   std::map<std::int32_t, mc::TransmittanceDerivative> dT_dmu;
 };
 
+/// A prediction as `tocdlab predict --json` and the study tables write it: T, side losses,
+/// reflectance, absorption, the timings, config, FE summary, mesh statistics, the Monte Carlo
+/// summary and, when written, the fluence files (the derivatives are left out).
+nlohmann::json to_json(const Prediction& p);
+
 /// Canonical config of a request (threads and fluence output excluded: they do not change
 /// the answer). Throws tocd::ConfigError on a bad request (names the field).
 nlohmann::json to_config(const PredictionRequest& request);
