@@ -238,15 +238,17 @@ void weigh_by_hold_noise(Problem& pr, const Eigen::VectorXd& y) {
   }
 }
 
-// Jacobian in (f, tau_w, T_eq): the basis for the T_eq, central differences for f and tau_w.
-Eigen::MatrixXd jacobian(const Problem& pr, double f, double tau, const Eigen::VectorXd& t_eq) {
+// Jacobian in (f, tau_w, T_eq): the basis at (f, tau_w), b, for the T_eq; central differences
+// for f and tau_w.
+Eigen::MatrixXd jacobian(const Problem& pr, double f, double tau, const Eigen::VectorXd& t_eq,
+                         const Eigen::MatrixXd& b) {
   Eigen::MatrixXd jac(static_cast<Eigen::Index>(pr.rows.size()),
                       static_cast<Eigen::Index>(pr.knots.size() + 2));
   const double hf = 1e-4, ht = 1e-4 * tau;
   jac.col(0) = (pr.basis(std::min(f + hf, 1.0), tau) * t_eq - pr.basis(std::max(f - hf, 0.0), tau) * t_eq) /
                (std::min(f + hf, 1.0) - std::max(f - hf, 0.0));
   jac.col(1) = (pr.basis(f, tau + ht) * t_eq - pr.basis(f, tau - ht) * t_eq) / (2 * ht);
-  jac.rightCols(static_cast<Eigen::Index>(pr.knots.size())) = pr.basis(f, tau);
+  jac.rightCols(static_cast<Eigen::Index>(pr.knots.size())) = b;
   return jac;
 }
 
@@ -302,8 +304,9 @@ ClearingIdentification identify_clearing(const RunHistory& h) {
   const double rss = projected_cost(pr, y, best_f, best_tau, &t_eq);
 
   const auto nr = static_cast<Eigen::Index>(pr.rows.size());
-  const Eigen::MatrixXd jac = jacobian(pr, best_f, best_tau, t_eq);
-  const Eigen::VectorXd r = y - pr.basis(best_f, best_tau) * t_eq;
+  const Eigen::MatrixXd b0 = pr.basis(best_f, best_tau);  // a lag over the whole run: once
+  const Eigen::MatrixXd jac = jacobian(pr, best_f, best_tau, t_eq, b0);
+  const Eigen::VectorXd r = y - b0 * t_eq;
   const Eigen::VectorXd w = Eigen::Map<const Eigen::VectorXd>(pr.weight.data(), nr);
 
   ClearingIdentification out;

@@ -154,12 +154,17 @@ Eigen::Vector4d clamp_to_ranges(Eigen::Vector4d theta) {
   return theta;
 }
 
-// The generalised least-squares weights of an evaluation: the inverse of the T_eq's covariance
-// plus the Monte Carlo variances of the model.
-Eigen::MatrixXd weights_of(const ClearingIdentification& clearing, const Evaluation& ev) {
+// The covariance of the data's differences from an evaluation: the T_eq's covariance plus the
+// Monte Carlo variances of the model.
+Eigen::MatrixXd covariance_of(const ClearingIdentification& clearing, const Evaluation& ev) {
   Eigen::MatrixXd c = clearing.T_eq_covariance;
   c.diagonal() += ev.se.cwiseProduct(ev.se);
-  return c.inverse();
+  return c;
+}
+
+// The generalised least-squares weights of an evaluation: the inverse of that covariance.
+Eigen::MatrixXd weights_of(const ClearingIdentification& clearing, const Evaluation& ev) {
+  return covariance_of(clearing, ev).inverse();
 }
 
 struct Fitted {
@@ -182,10 +187,8 @@ Fitted levenberg_marquardt(Model& model, const ClearingIdentification& clearing,
   const auto nk = static_cast<Eigen::Index>(clearing.T_eq.size());
   const Eigen::VectorXd y = Eigen::Map<const Eigen::VectorXd>(clearing.T_eq.data(), nk);
   auto chi2_of = [&](const Evaluation& ev) {
-    Eigen::MatrixXd c = clearing.T_eq_covariance;
-    c.diagonal() += ev.se.cwiseProduct(ev.se);
     const Eigen::VectorXd r = y - ev.T;
-    return r.dot(c.ldlt().solve(r));
+    return r.dot(covariance_of(clearing, ev).ldlt().solve(r));
   };
   Fitted f{Eigen::Vector4d(0.6, 0.6, 1.1, 0.5), {}, 0, false};
   Eigen::Vector4d& theta = f.theta;

@@ -8,18 +8,18 @@
 
 namespace tocd::sim::fe {
 
-Kinematics parse_kinematics(const std::string& s) {
-  if (s == "axi" || s == "axisymmetric") return Kinematics::axisymmetric;
-  if (s == "plane-strain") return Kinematics::plane_strain;
-  if (s == "plane-stress") return Kinematics::plane_stress;
-  throw FeError(fmt::format("unknown kinematics '{}' (use axi, plane-strain or plane-stress)", s));
-}
-
 namespace {
 constexpr std::array<EnumName<Kinematics>, 3> kKinematicsNames{{{Kinematics::axisymmetric, "axisymmetric"},
                                                                 {Kinematics::plane_strain, "plane-strain"},
                                                                 {Kinematics::plane_stress, "plane-stress"}}};
 }  // namespace
+
+Kinematics parse_kinematics(const std::string& s) {
+  if (s == "axi") return Kinematics::axisymmetric;  // the short spelling, also accepted
+  if (const auto k = value_of(kKinematicsNames, s)) return *k;
+  throw FeError(
+      fmt::format("unknown kinematics '{}' (use {}; axi for short)", s, name_list(kKinematicsNames)));
+}
 
 std::string to_string(Kinematics k) {
   return std::string(name_of(kKinematicsNames, k, "?"));
