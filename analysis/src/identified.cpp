@@ -171,6 +171,29 @@ void apply_profile(IdentifiedParameter& p, const CostRise& rise, double z) {
   judge(p, !lo && !hi ? "on either side" : !lo ? "below" : !hi ? "above" : nullptr);
 }
 
+void widen_to_profile_hull(IdentifiedParameter& p, const std::vector<std::pair<double, double>>& scan,
+                           double z) {
+  const double threshold = z * z, lo = p.lo, hi = p.hi;
+  bool open_lo = lo <= p.range.lo, open_hi = hi >= p.range.hi, widened = false;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const auto& [value, rise] = scan[i];
+    if (!(rise < threshold) || (value >= lo && value <= hi)) continue;
+    widened = true;
+    if (value < lo) {
+      // The first such point below the interval sets its new end, one grid value further.
+      const double end = i == 0 ? p.range.lo : scan[i - 1].first;
+      open_lo = open_lo || i == 0;
+      p.lo = std::min(p.lo, end);
+    } else {
+      const double end = i + 1 == scan.size() ? p.range.hi : scan[i + 1].first;
+      open_hi = open_hi || i + 1 == scan.size();
+      p.hi = std::max(p.hi, end);
+    }
+  }
+  if (!widened) return;
+  judge(p, open_lo && open_hi ? "on either side" : open_lo ? "below" : open_hi ? "above" : nullptr);
+}
+
 void apply_covariance(ParameterReport& report, const Eigen::MatrixXd& cov, double z) {
   const auto n = static_cast<Eigen::Index>(report.parameters.size());
   if (cov.rows() != n || cov.cols() != n)

@@ -45,39 +45,49 @@ struct Problem {
   std::vector<std::size_t> hold_of;  // hold index of each row
   std::vector<double> weight;        // 1 / noise sigma of each row's hold (1 until estimated)
 
-  // Basis matrix (rows x knots) for given (f, tau_w).
-  Eigen::MatrixXd basis(double f, double tau) const {
-    // dd = d - h, h the first-order lag of d with time constant tau (prony_history of d).
+  Eigen::MatrixXd now;  // rows x knots: the hat functions at the pin's displacement (set once)
+
+  // The hat functions at the drained displacement dd = d - h, h the first-order lag of d with
+  // time constant tau (prony_history of d): rows x knots.
+  Eigen::MatrixXd drained(double tau) const {
     const auto lag = sim::material::prony_history(h.tester_t_s, h.displacement_mm, tau);
-    Eigen::MatrixXd b = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(rows.size()),
-                                              static_cast<Eigen::Index>(knots.size()));
-    for (std::size_t r = 0; r < rows.size(); ++r) {
-      const double t = h.power_t_s[rows[r]];
-      const double d = d_at_row[r];
-      const double dd = d - interpolate(h.tester_t_s, lag, t);
+    std::vector<double> dd(rows.size());
+    for (std::size_t r = 0; r < rows.size(); ++r)
+      dd[r] = d_at_row[r] - interpolate(h.tester_t_s, lag, h.power_t_s[rows[r]]);
+    return hats(dd);
+  }
+
+  Eigen::MatrixXd hats(const std::vector<double>& at) const {
+    Eigen::MatrixXd b =
+        Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(at.size()), static_cast<Eigen::Index>(knots.size()));
+    for (std::size_t r = 0; r < at.size(); ++r) {
       std::size_t k;
       double w0, w1;
-      const auto row = static_cast<Eigen::Index>(r);
-      hat_weights(knots, d, k, w0, w1);
-      b(row, static_cast<Eigen::Index>(k)) += (1 - f) * w0;
-      b(row, static_cast<Eigen::Index>(k + 1)) += (1 - f) * w1;
-      hat_weights(knots, dd, k, w0, w1);
-      b(row, static_cast<Eigen::Index>(k)) += f * w0;
-      b(row, static_cast<Eigen::Index>(k + 1)) += f * w1;
+      hat_weights(knots, at[r], k, w0, w1);
+      b(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(k)) = w0;
+      b(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(k + 1)) = w1;
     }
     return b;
   }
+
+  // Basis matrix (rows x knots) for given (f, tau_w): T = (1 - f) T_eq(d) + f T_eq(dd).
+  Eigen::MatrixXd basis(double f, double tau) const { return (1 - f) * now + f * drained(tau); }
 };
 
-// Weighted residual sum of squares with the T_eq solved exactly (variable projection).
-double projected_cost(const Problem& pr, const Eigen::VectorXd& y, double f, double tau,
+// Weighted residual sum of squares of a basis with the T_eq solved exactly (variable projection).
+double projected_cost(const Problem& pr, const Eigen::VectorXd& y, const Eigen::MatrixXd& basis,
                       Eigen::VectorXd* t_eq) {
   const Eigen::VectorXd w = Eigen::Map<const Eigen::VectorXd>(pr.weight.data(), y.size());
-  const Eigen::MatrixXd b = w.asDiagonal() * pr.basis(f, tau);
+  const Eigen::MatrixXd b = w.asDiagonal() * basis;
   const Eigen::VectorXd wy = w.cwiseProduct(y);
   const Eigen::VectorXd x = b.colPivHouseholderQr().solve(wy);
   if (t_eq) *t_eq = x;
   return (wy - b * x).squaredNorm();
+}
+
+double projected_cost(const Problem& pr, const Eigen::VectorXd& y, double f, double tau,
+                      Eigen::VectorXd* t_eq) {
+  return projected_cost(pr, y, pr.basis(f, tau), t_eq);
 }
 
 double span_of(const RunHistory& h) {
@@ -121,21 +131,9 @@ double minimum_near(Cost cost, double centre, double half, double lo, double hi)
   return x;
 }
 
-// Variable projection on a grid of (f, ln tau_w), then golden-section refinement of each in
-// turn until neither moves: the T_eq are solved exactly at every point. Returns the rounds.
-int search(const Problem& pr, const Eigen::VectorXd& y, double& best_f, double& best_tau) {
-  const double span = span_of(pr.h);
-  double best = std::numeric_limits<double>::infinity();
-  for (int i = 0; i <= 20; ++i)
-    for (int k = 0; k < 25; ++k) {
-      const double f = 0.045 * i, tau = 0.2 * std::pow(25.0 * span, k / 24.0);
-      const double c = projected_cost(pr, y, f, tau, nullptr);
-      if (c < best) {
-        best = c;
-        best_f = f;
-        best_tau = tau;
-      }
-    }
+// Golden-section refinement of the share and the time in turn from (best_f, best_tau) until
+// neither moves. Returns the rounds.
+int refine(const Problem& pr, const Eigen::VectorXd& y, double& best_f, double& best_tau) {
   int rounds = 0;
   for (; rounds < 20; ++rounds) {
     const double f0 = best_f, tau0 = best_tau;
@@ -149,13 +147,97 @@ int search(const Problem& pr, const Eigen::VectorXd& y, double& best_f, double& 
   return rounds + 1;
 }
 
+// Variable projection on a grid of (f, ln tau_w), then refine(): the T_eq are solved exactly at
+// every point. Returns the rounds.
+int search(const Problem& pr, const Eigen::VectorXd& y, double& best_f, double& best_tau) {
+  const double span = span_of(pr.h);
+  double best = std::numeric_limits<double>::infinity();
+  for (int i = 0; i <= 20; ++i)
+    for (int k = 0; k < 25; ++k) {
+      const double f = 0.045 * i, tau = 0.2 * std::pow(25.0 * span, k / 24.0);
+      const double c = projected_cost(pr, y, f, tau, nullptr);
+      if (c < best) {
+        best = c;
+        best_f = f;
+        best_tau = tau;
+      }
+    }
+  return refine(pr, y, best_f, best_tau);
+}
+
+// The profiles of the share and the time over their whole plausible ranges, on grids: the
+// residual sum of squares, minimised over the other (and the T_eq), at each grid value. A small
+// delayed share leaves a second valley (a larger share delayed by minutes, which holds of
+// seconds see as a slow drift); a profile walked out from the estimate stops at its first
+// crossing of z^2, before that valley, and with the truth in it the interval missed (one
+// closed-form run in ten with a share below 0.15 and 8 s holds).
+struct ProfileScan {
+  std::vector<std::pair<double, double>> share, time;  // (value, lowest cost)
+  double best_f = 0, best_tau = 0, best_cost = std::numeric_limits<double>::infinity();
+};
+
+ProfileScan scan_profiles(const Problem& pr, const Eigen::VectorXd& y) {
+  constexpr int kTimes = 49, kShares = 41;
+  constexpr double kShareTop = 0.999;
+  ProfileScan scan;
+  std::vector<double> share_cost(kShares, std::numeric_limits<double>::infinity());
+  std::vector<double> share_tau(kShares, 0.0);
+  const double l0 = std::log(kTimeRange.lo), l1 = std::log(kTimeRange.hi);
+  for (int k = 0; k < kTimes; ++k) {
+    const double tau = std::exp(l0 + (l1 - l0) * k / (kTimes - 1));
+    const Eigen::MatrixXd d = pr.drained(tau);
+    auto cost = [&](double f) { return projected_cost(pr, y, (1 - f) * pr.now + f * d, nullptr); };
+    int best_i = 0;
+    double best = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < kShares; ++i) {
+      const double f = kShareTop * i / (kShares - 1);
+      const double c = cost(f);
+      if (c < share_cost[static_cast<std::size_t>(i)]) {
+        share_cost[static_cast<std::size_t>(i)] = c;
+        share_tau[static_cast<std::size_t>(i)] = tau;
+      }
+      if (c < best) {
+        best = c;
+        best_i = i;
+      }
+    }
+    const double f = golden(cost, kShareTop * std::max(0, best_i - 1) / (kShares - 1),
+                            kShareTop * std::min(kShares - 1, best_i + 1) / (kShares - 1));
+    const double c = std::min(best, cost(f));
+    scan.time.emplace_back(tau, c);
+    if (c < scan.best_cost) {
+      scan.best_cost = c;
+      scan.best_f = f;
+      scan.best_tau = tau;
+    }
+  }
+  // The share's profile: the lowest over the time grid, refined in ln tau between the grid's
+  // neighbours of that lowest point.
+  const double dl = (l1 - l0) / (kTimes - 1);
+  for (int i = 0; i < kShares; ++i) {
+    const double f = kShareTop * i / (kShares - 1);
+    const double lt = std::log(share_tau[static_cast<std::size_t>(i)]);
+    const double u = golden([&](double v) { return projected_cost(pr, y, f, std::exp(v), nullptr); },
+                            std::max(l0, lt - dl), std::min(l1, lt + dl));
+    scan.share.emplace_back(
+        f, std::min(share_cost[static_cast<std::size_t>(i)], projected_cost(pr, y, f, std::exp(u), nullptr)));
+  }
+  return scan;
+}
+
 // Profile intervals of the delayed share and its time (identified.hpp): each held while the
 // other is minimised near its last value and the T_eq are solved exactly. With holds shorter
 // than tau_w the share, the time and the T_eq trade off along a curved valley; the Wald
-// intervals of that valley undercover. The T_eq keep their Wald intervals: the model is
-// linear in them.
+// intervals of that valley undercover. Where the scan over the whole range finds the profile
+// below z^2 apart from the estimate's valley too, the interval is widened to hold it. The
+// T_eq keep their Wald intervals: the model is linear in them.
 void profile_intervals(const Problem& pr, const Eigen::VectorXd& y, double f, double tau, double rss_min,
-                       double residual_variance, ParameterReport& rep) {
+                       double residual_variance, const ProfileScan& scan, ParameterReport& rep) {
+  auto rises = [&](const std::vector<std::pair<double, double>>& costs) {
+    std::vector<std::pair<double, double>> out;
+    for (const auto& [value, cost] : costs) out.emplace_back(value, (cost - rss_min) / residual_variance);
+    return out;
+  };
   const double lt0 = std::log(tau);
   double warm_lt = lt0;
   bool above = true;  // the side of the estimate the last profile point was on
@@ -167,6 +249,7 @@ void profile_intervals(const Problem& pr, const Eigen::VectorXd& y, double f, do
                              warm_lt, 0.5, std::log(kTimeRange.lo), std::log(kTimeRange.hi));
       return (projected_cost(pr, y, share, std::exp(warm_lt), nullptr) - rss_min) / residual_variance;
     });
+  if (std::isfinite(rep.parameters[0].se)) widen_to_profile_hull(rep.parameters[0], rises(scan.share));
   double warm_f = f;
   above = true;
   if (std::isfinite(rep.parameters[1].se))
@@ -177,6 +260,7 @@ void profile_intervals(const Problem& pr, const Eigen::VectorXd& y, double f, do
                             0.05, 0.0, 0.999);
       return (projected_cost(pr, y, warm_f, time, nullptr) - rss_min) / residual_variance;
     });
+  if (std::isfinite(rep.parameters[1].se)) widen_to_profile_hull(rep.parameters[1], rises(scan.time));
 }
 
 // The held displacements as knots, and the meter readings within the holds as rows; the
@@ -203,6 +287,7 @@ std::vector<std::pair<std::size_t, std::size_t>> collect_rows(Problem& pr) {
     }
     if (pr.rows.size() > first_row) segments.emplace_back(first_row, pr.rows.size() - 1);
   }
+  pr.now = pr.hats(pr.d_at_row);
   return segments;
 }
 
@@ -286,7 +371,7 @@ std::vector<ClearingIdentification::Window> windows_of(const RunHistory& h, cons
 }  // namespace
 
 ClearingIdentification identify_clearing(const RunHistory& h) {
-  Problem pr{h, {}, {}, {}, {}, {}};
+  Problem pr{h, {}, {}, {}, {}, {}, {}};
   const auto segments = collect_rows(pr);
   const std::size_t n_par = pr.knots.size() + 2;
   if (pr.rows.size() <= n_par)
@@ -299,9 +384,23 @@ ClearingIdentification identify_clearing(const RunHistory& h) {
     y(static_cast<Eigen::Index>(r)) = h.transmission[pr.rows[r]];
   weigh_by_hold_noise(pr, y);
   double best_f = 0, best_tau = span_of(h) / 4;
-  const int iterations = search(pr, y, best_f, best_tau);
+  int iterations = search(pr, y, best_f, best_tau);
   Eigen::VectorXd t_eq;
-  const double rss = projected_cost(pr, y, best_f, best_tau, &t_eq);
+  double rss = projected_cost(pr, y, best_f, best_tau, &t_eq);
+  // The scan of the whole range may find a lower valley than the search's grid did: refine there.
+  const ProfileScan scan = scan_profiles(pr, y);
+  if (scan.best_cost < rss) {
+    double f = scan.best_f, tau = scan.best_tau;
+    iterations += refine(pr, y, f, tau);
+    Eigen::VectorXd x;
+    const double c = projected_cost(pr, y, f, tau, &x);
+    if (c < rss) {
+      best_f = f;
+      best_tau = tau;
+      rss = c;
+      t_eq = x;
+    }
+  }
 
   const auto nr = static_cast<Eigen::Index>(pr.rows.size());
   const Eigen::MatrixXd b0 = pr.basis(best_f, best_tau);  // a lag over the whole run: once
@@ -329,7 +428,7 @@ ClearingIdentification identify_clearing(const RunHistory& h) {
                               t_eq(static_cast<Eigen::Index>(j)), 0, 0, 0, kTransmissionRange, false, ""});
   const Eigen::MatrixXd cov = least_squares_covariance(w.asDiagonal() * jac, sigma2 * rep.variance_inflation);
   apply_covariance(rep, cov);
-  profile_intervals(pr, y, best_f, best_tau, rss, sigma2 * rep.variance_inflation, rep);
+  profile_intervals(pr, y, best_f, best_tau, rss, sigma2 * rep.variance_inflation, scan, rep);
   out.displacement_mm = pr.knots;
   out.T_eq.assign(t_eq.data(), t_eq.data() + t_eq.size());
   const auto nk = static_cast<Eigen::Index>(pr.knots.size());

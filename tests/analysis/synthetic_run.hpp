@@ -21,6 +21,7 @@ struct SyntheticTruth {
   double offset_N = 0.0, scale = 1.25, g = 0.3, tau_s = 20.0;
   double delayed = 0.3, delayed_tau_s = 20.0;
   double load_noise_N = 0.002, transmission_noise = 0.0005;
+  double transmission_relative_noise = 0.0;  ///< a share of T, added to transmission_noise (the meter's)
 };
 
 struct SyntheticRun {
@@ -103,9 +104,11 @@ inline SyntheticRun make_synthetic_run(const SyntheticTruth& truth, std::uint64_
   for (double time = 0.05; time < t; time += 0.1) {
     const double d = displacement(time), dd = d - lag(time, truth.delayed_tau_s);
     h.power_t_s.push_back(time);
-    h.transmission.push_back((1 - truth.delayed) * piecewise(s.knots_mm, s.T_eq, d) +
-                             truth.delayed * piecewise(s.knots_mm, s.T_eq, dd) +
-                             truth.transmission_noise * normal(rng));
+    const double light = (1 - truth.delayed) * piecewise(s.knots_mm, s.T_eq, d) +
+                         truth.delayed * piecewise(s.knots_mm, s.T_eq, dd);
+    h.transmission.push_back(light +
+                             std::hypot(truth.transmission_noise, truth.transmission_relative_noise * light) *
+                                 normal(rng));
   }
   for (std::size_t k = 0; k < holds.size(); ++k) {
     Hold hold;

@@ -1,7 +1,10 @@
 // Profile-likelihood intervals (identified.hpp) on cost profiles whose crossings are known in
 // closed form: the interval ends are where the profile rises by z^2, nothing else. The search
 // stops once sqrt(rise) is within 1e-3 of z, so each end is good to 1e-3 / |d sqrt(rise)/dv|.
+#include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -79,4 +82,37 @@ TEST(ProfileInterval, AWideButClosedIntervalIsNotDetermined) {
   a::apply_profile(p, [](double v) { return std::pow((v - 0.5) / 0.15, 2); });
   EXPECT_NEAR(p.hi - p.lo, 2 * 0.15 * kZ, 2 * 1e-3 * 0.15);
   EXPECT_FALSE(p.determined);
+}
+
+// A profile walked out from its estimate at 2 (rise ((v - 2) / 0.1)^2 there, closing at
+// 2 +- 0.196), with a second valley `valley` elsewhere, then widened by a scan of the range
+// [0, 10] in steps of `step`.
+template <class Valley>
+a::IdentifiedParameter widened_by_scan(Valley valley, double step) {
+  auto rise = [&](double v) { return std::min(std::pow((v - 2.0) / 0.1, 2), valley(v)); };
+  auto p = parameter(2.0, 0.1, {0.0, 10.0, false});
+  a::apply_profile(p, rise);
+  EXPECT_NEAR(p.hi, 2.0 + 0.1 * kZ, 1e-3 * 0.1);  // the walk stops before the second valley
+  std::vector<std::pair<double, double>> scan;
+  for (int i = 0; i * step <= 10.0 + 1e-9; ++i) scan.emplace_back(i * step, rise(i * step));
+  a::widen_to_profile_hull(p, scan);
+  return p;
+}
+
+// The second valley at 3 has a rise of 1: below z^2, so a value there is as consistent with
+// the run as the interval's ends, and the interval is widened to hold it.
+TEST(ProfileInterval, ASecondValleyBelowZSquaredWidensTheInterval) {
+  const auto p = widened_by_scan([](double v) { return 1 + std::pow((v - 3.0) / 0.1, 2); }, 0.05);
+  // Grid points below z^2 near 3: 2.85 .. 3.15 (rise 1 + 2.25 = 3.25 at 2.85); the end runs to
+  // the next grid point, 3.2. Below, nothing new: the low end stays.
+  EXPECT_NEAR(p.lo, 2.0 - 0.1 * kZ, 1e-3 * 0.1);
+  EXPECT_DOUBLE_EQ(p.hi, 3.2);
+  EXPECT_TRUE(p.lo <= 3.0 && 3.0 <= p.hi);
+}
+
+TEST(ProfileInterval, ASecondValleyAtTheRangesEndLeavesThatSideOpen) {
+  const auto p = widened_by_scan([](double v) { return 1 + std::pow((v - 9.5) / 0.5, 2); }, 0.1);
+  EXPECT_DOUBLE_EQ(p.hi, 10.0);
+  EXPECT_FALSE(p.determined);
+  EXPECT_NE(p.why_not.find("above"), std::string::npos) << p.why_not;
 }

@@ -2,6 +2,7 @@
 // exactly: the estimates land on the truth, the 95 % intervals cover it as often as they say,
 // and what the run cannot tell is reported as such.
 #include <cmath>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -118,6 +119,38 @@ TEST(IdentifyClearing, IntervalsAreCalibrated) {
   }
   EXPECT_GE(covered_f, 34);
   EXPECT_GE(covered_tau, 34);
+}
+
+// The demo's holds (about 8 s: 2 s, the settling, 5 s of recording) and its meter's noise (0.2 %
+// of the light), with the share and the time drawn from the simulated samples' ranges (0 to 0.5,
+// 8 to 40 s). A small share leaves the likelihood a second valley (a larger share delayed by
+// minutes); before the profiles were scanned over the whole range, intervals taken around the
+// wrong valley missed the truth in 15 of these 100 runs. A calibrated 95 % interval misses more
+// than 10 times in 100 with probability 1.2 % (binomial). Measured over 400 such runs: the time
+// covered in 95.1 % of those where it was determined, the share in 92.3 % (docs/identify.md).
+TEST(IdentifyClearing, IntervalsAreCalibratedOnDemoHoldsWithTheMetersNoise) {
+  int determined = 0, missed_f = 0, missed_tau = 0;
+  constexpr int runs = 100;
+  std::mt19937_64 draw(77);
+  std::uniform_real_distribution<double> u01;
+  for (int seed = 1; seed <= runs; ++seed) {
+    SyntheticTruth truth;
+    truth.delayed = 0.5 * u01(draw);
+    truth.delayed_tau_s = 8.0 + 32.0 * u01(draw);
+    truth.transmission_noise = 2e-7;  // the meter's floor, 2e-10 W of 1 mW
+    truth.transmission_relative_noise = 0.002;
+    const auto c = a::identify_clearing(
+        make_synthetic_run(truth, 900 + static_cast<std::uint64_t>(seed), 8.0, 0.5, 50.0).history);
+    const auto& tau = c.report.at("delayed_clearing_time_s");
+    if (!covers(c.report.at("delayed_clearing"), truth.delayed)) ++missed_f;
+    if (tau.determined) {
+      ++determined;
+      if (!covers(tau, truth.delayed_tau_s)) ++missed_tau;
+    }
+  }
+  EXPECT_LE(missed_f, 10);
+  EXPECT_GE(determined, 80);  // a share below 0.05 or so leaves the time open
+  EXPECT_LE(missed_tau, 10);
 }
 
 TEST(IdentifyClearing, NoDelayLeavesItsTimeUndetermined) {

@@ -5,6 +5,7 @@
 
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -75,6 +76,14 @@ using CostRise = std::function<double(double value)>;
 /// longer). The determination rule (PlausibleRange) applies to the profile interval; se and
 /// the correlations stay those of the covariance.
 void apply_profile(IdentifiedParameter& parameter, const CostRise& rise, double z = 1.959963984540054);
+
+/// Widens a profile interval (apply_profile) to hold every point of `scan`, the profile's rise
+/// at grid values over the plausible range (value, rise; in order of value), where the rise is
+/// below z^2: a profile with a second valley apart from the estimate's. Each widened end runs
+/// to the grid value beyond the last such point (or the range's end, which leaves that side
+/// open), and the determination rule is applied again.
+void widen_to_profile_hull(IdentifiedParameter& parameter, const std::vector<std::pair<double, double>>& scan,
+                           double z = 1.959963984540054);
 
 /// The covariance of a least-squares estimate: sigma^2 (J^T J)^-1, J the Jacobian of the model
 /// at the rows, in natural parameters. Columns are scaled to unit norm before the inverse and
