@@ -26,8 +26,10 @@ TEST(DbConcurrency, ReadersSeeCommittedPrefixesWhileTheWriterWrites) {
   Database db(path);
   const auto run = db.create_run({}).id;
   const auto ch = db.add_channel({0, run, "load", "N", 0, 1000.0});
-  Writer w(db,
-           {.batch_interval = std::chrono::milliseconds(5), .batch_rows = 2000, .queue_capacity = 1'000'000});
+  Writer w(db, {.batch_interval = std::chrono::milliseconds(5),
+                .batch_rows = 2000,
+                .queue_capacity = 1'000'000,
+                .on_failure = {}});
 
   // Background readers hammer the file the whole time; any error (SQLITE_BUSY included) or a
   // non-prefix view fails the test.

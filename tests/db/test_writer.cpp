@@ -26,8 +26,10 @@ TEST(DbWriter, SamplesFromManyThreadsAreAllCommitted) {
   std::vector<Channel> ch;
   for (int i = 0; i < kThreads; ++i)
     ch.push_back(db.add_channel({0, run, "ch" + std::to_string(i), "V", 0, kUnset}));
-  Writer w(
-      db, {.batch_interval = std::chrono::milliseconds(20), .batch_rows = 5000, .queue_capacity = 1'000'000});
+  Writer w(db, {.batch_interval = std::chrono::milliseconds(20),
+                .batch_rows = 5000,
+                .queue_capacity = 1'000'000,
+                .on_failure = {}});
   std::vector<std::thread> producers;
   for (int i = 0; i < kThreads; ++i) {
     producers.emplace_back([&, i] {
@@ -76,7 +78,8 @@ TEST(DbWriter, BatchIntervalCommitsWithoutFlush) {
   const auto ch = db.add_channel({0, run, "load", "N", 0, kUnset});
   Writer w(db, {.batch_interval = std::chrono::milliseconds(10),
                 .batch_rows = 1'000'000,
-                .queue_capacity = 1'000'000});
+                .queue_capacity = 1'000'000,
+                .on_failure = {}});
   w.enqueue(Sample{ch.id, 1, 1.0});
   Reader rd(path);
   // Not a timing assertion: wait (up to 10 s) until the interval commit shows.
@@ -109,9 +112,10 @@ TEST(DbWriter, FullQueueDropsAndCountsNeverBlocks) {
   const auto run = db.create_run({}).id;
   const auto ch = db.add_channel({0, run, "load", "N", 0, kUnset});
   // A long interval and a huge batch size: nothing leaves the queue before the flush.
-  Writer w(
-      db,
-      {.batch_interval = std::chrono::milliseconds(60'000), .batch_rows = 1'000'000, .queue_capacity = 100});
+  Writer w(db, {.batch_interval = std::chrono::milliseconds(60'000),
+                .batch_rows = 1'000'000,
+                .queue_capacity = 100,
+                .on_failure = {}});
   std::vector<Sample> block(150, Sample{ch.id, 0, 1.0});
   EXPECT_EQ(w.enqueue(block), 100u);
   EXPECT_FALSE(w.enqueue(Sample{ch.id, 1, 1.0}));
