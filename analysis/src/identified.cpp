@@ -194,6 +194,26 @@ void widen_to_profile_hull(IdentifiedParameter& p, const std::vector<std::pair<d
   judge(p, open_lo && open_hi ? "on either side" : open_lo ? "below" : open_hi ? "above" : nullptr);
 }
 
+void widen_over_valley(IdentifiedParameter& p, std::size_t index, const std::vector<ValleyPoint>& valley,
+                       double rss_min, double residual_variance, double z) {
+  if (!std::isfinite(p.se)) return;
+  const double budget = z * z * residual_variance;
+  bool widened = false;
+  for (const auto& point : valley) {
+    const double spare = budget - (point.cost - rss_min);
+    if (!(spare > 0) || !std::isfinite(point.conditional_variance[index])) continue;
+    const double half = std::sqrt(spare * point.conditional_variance[index]);
+    const double lo = point.linear[index] - half, hi = point.linear[index] + half;
+    if (lo >= p.lo && hi <= p.hi) continue;
+    p.lo = std::min(p.lo, std::max(lo, p.range.lo));
+    p.hi = std::max(p.hi, std::min(hi, p.range.hi));
+    widened = true;
+  }
+  if (!widened) return;
+  p.interval = "profile";
+  judge(p);
+}
+
 void apply_covariance(ParameterReport& report, const Eigen::MatrixXd& cov, double z) {
   const auto n = static_cast<Eigen::Index>(report.parameters.size());
   if (cov.rows() != n || cov.cols() != n)

@@ -130,6 +130,7 @@ TEST(IdentifyClearing, IntervalsAreCalibrated) {
 // covered in 95.1 % of those where it was determined, the share in 92.3 % (docs/identify.md).
 TEST(IdentifyClearing, IntervalsAreCalibratedOnDemoHoldsWithTheMetersNoise) {
   int determined = 0, missed_f = 0, missed_tau = 0;
+  std::vector<int> missed_T_eq(7, 0);
   constexpr int runs = 100;
   std::mt19937_64 draw(77);
   std::uniform_real_distribution<double> u01;
@@ -139,9 +140,11 @@ TEST(IdentifyClearing, IntervalsAreCalibratedOnDemoHoldsWithTheMetersNoise) {
     truth.delayed_tau_s = 8.0 + 32.0 * u01(draw);
     truth.transmission_noise = 2e-7;  // the meter's floor, 2e-10 W of 1 mW
     truth.transmission_relative_noise = 0.002;
-    const auto c = a::identify_clearing(
-        make_synthetic_run(truth, 900 + static_cast<std::uint64_t>(seed), 8.0, 0.5, 50.0).history);
+    const auto run = make_synthetic_run(truth, 900 + static_cast<std::uint64_t>(seed), 8.0, 0.5, 50.0);
+    const auto c = a::identify_clearing(run.history);
     const auto& tau = c.report.at("delayed_clearing_time_s");
+    for (std::size_t j = 0; j < missed_T_eq.size(); ++j)
+      if (!covers(c.report.parameters[2 + j], run.T_eq[j])) ++missed_T_eq[j];
     if (!covers(c.report.at("delayed_clearing"), truth.delayed)) ++missed_f;
     if (tau.determined) {
       ++determined;
@@ -151,6 +154,11 @@ TEST(IdentifyClearing, IntervalsAreCalibratedOnDemoHoldsWithTheMetersNoise) {
   EXPECT_LE(missed_f, 10);
   EXPECT_GE(determined, 80);  // a share below 0.05 or so leaves the time open
   EXPECT_LE(missed_tau, 10);
+  // The equilibrium transmissions shift with the share and the time: with Wald intervals 12 to
+  // 15 of these 100 missed at every knot. More than 11 misses of 100 has probability 0.4 % at
+  // the nominal 95 % (binomial); over 400 runs they cover 93 %, short of 95 % at shares above
+  // 0.25 as the share itself is (docs/identify.md).
+  for (std::size_t j = 0; j < missed_T_eq.size(); ++j) EXPECT_LE(missed_T_eq[j], 11) << "T_eq at knot " << j;
 }
 
 TEST(IdentifyClearing, NoDelayLeavesItsTimeUndetermined) {

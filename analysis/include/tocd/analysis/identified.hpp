@@ -85,6 +85,26 @@ void apply_profile(IdentifiedParameter& parameter, const CostRise& rise, double 
 void widen_to_profile_hull(IdentifiedParameter& parameter, const std::vector<std::pair<double, double>>& scan,
                            double z = 1.959963984540054);
 
+/// A point on the floor of a fit's valley in its nonlinear parameters, for the parameters in
+/// which the model is linear (solved exactly there): the residual sum of squares at the point,
+/// the linear parameters' values and, for each, how fast the sum rises with it alone (the
+/// diagonal of (B^T B)^-1 of the weighted basis B: the sum grows by (x - value)^2 / that).
+struct ValleyPoint {
+  double cost = 0;
+  std::vector<double> linear, conditional_variance;
+};
+
+/// Widens the interval of linear parameter `index` (of the ValleyPoints) to its profile over the
+/// valley: at each point whose rise is below z^2 the values whose cost, with the nonlinear
+/// parameters held there, rises by less than z^2 residual variances; the interval becomes the
+/// hull of those and the Wald interval. A Wald interval treats the nonlinear parameters as
+/// known to their standard errors; where they are not (a small delayed share, whose time may
+/// be anything from seconds to minutes), the linear ones shift with them far beyond it. The
+/// determination rule applies again.
+void widen_over_valley(IdentifiedParameter& parameter, std::size_t index,
+                       const std::vector<ValleyPoint>& valley, double rss_min, double residual_variance,
+                       double z = 1.959963984540054);
+
 /// The covariance of a least-squares estimate: sigma^2 (J^T J)^-1, J the Jacobian of the model
 /// at the rows, in natural parameters. Columns are scaled to unit norm before the inverse and
 /// directions the data do not see (eigenvalues below 1e-12 of the largest) left out: their
