@@ -201,8 +201,9 @@ void widen_over_valley(IdentifiedParameter& p, std::size_t index, const std::vec
   bool widened = false;
   for (const auto& point : valley) {
     const double spare = budget - (point.cost - rss_min);
-    if (!(spare > 0) || !std::isfinite(point.conditional_variance[index])) continue;
-    const double half = std::sqrt(spare * point.conditional_variance[index]);
+    const double variance = point.conditional_variance[index];
+    if (!(spare > 0) || !(variance > 0) || !std::isfinite(variance)) continue;
+    const double half = std::sqrt(spare * variance);
     const double lo = point.linear[index] - half, hi = point.linear[index] + half;
     if (lo >= p.lo && hi <= p.hi) continue;
     p.lo = std::min(p.lo, std::max(lo, p.range.lo));

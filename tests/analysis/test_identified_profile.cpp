@@ -116,3 +116,33 @@ TEST(ProfileInterval, ASecondValleyAtTheRangesEndLeavesThatSideOpen) {
   EXPECT_FALSE(p.determined);
   EXPECT_NE(p.why_not.find("above"), std::string::npos) << p.why_not;
 }
+
+// A linear parameter's profile over a valley of the nonlinear ones (widen_over_valley): at a
+// point whose cost sits `rise` residual variances above the minimum, the cost grows by
+// (x - x_hat)^2 / var, so the values kept are x_hat +- sqrt((z^2 - rise) var), by hand here.
+TEST(ValleyInterval, APointUpTheValleyWidensByWhatIsLeftOfZSquared) {
+  auto p = parameter(0.5, 0.025, {0.0, 1.5, false});
+  p.lo = 0.45;
+  p.hi = 0.55;
+  const double rss_min = 100.0, variance = 2.0;  // residual variance 2: rises are costs / 2
+  std::vector<a::ValleyPoint> valley{
+      {rss_min + 1.0 * variance, {0.6}, {0.0004}},   // rise 1: half-width sqrt(2.8415 * 0.0008)
+      {rss_min + 5.0 * variance, {0.1}, {0.0004}},   // rise 5, above z^2: not in the interval
+      {rss_min + 0.5 * variance, {0.05}, {0.0}},     // no curvature information: left out
+      {rss_min + 0.2 * variance, {0.48}, {0.0001}},  // inside the Wald interval already
+  };
+  a::widen_over_valley(p, 0, valley, rss_min, variance);
+  EXPECT_EQ(p.interval, "profile");
+  EXPECT_DOUBLE_EQ(p.lo, 0.45);
+  EXPECT_NEAR(p.hi, 0.6 + std::sqrt((kZ * kZ - 1.0) * 0.0004 * variance), 1e-12);
+  EXPECT_TRUE(p.determined);
+}
+
+TEST(ValleyInterval, AValleyInsideTheWaldIntervalLeavesIt) {
+  auto p = parameter(0.5, 0.025, {0.0, 1.5, false});
+  p.lo = 0.45;
+  p.hi = 0.55;
+  a::widen_over_valley(p, 0, {{1.0, {0.5}, {0.0001}}}, 1.0, 1.0);
+  EXPECT_EQ(p.interval, "wald");
+  EXPECT_DOUBLE_EQ(p.hi, 0.55);
+}
