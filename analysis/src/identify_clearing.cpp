@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -74,15 +75,46 @@ struct Problem {
   Eigen::MatrixXd basis(double f, double tau) const { return (1 - f) * now + f * drained(tau); }
 };
 
-// Weighted residual sum of squares of a basis with the T_eq solved exactly (variable projection).
-double projected_cost(const Problem& pr, const Eigen::VectorXd& y, const Eigen::MatrixXd& basis,
-                      Eigen::VectorXd* t_eq) {
+// The T_eq solved exactly for a basis (variable projection), by QR of the weighted basis: the
+// cost and the valley's points (valley_point) take the same path, so they give the same number.
+struct Projection {
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr;
+  Eigen::VectorXd t_eq;
+  double cost = 0;  // weighted residual sum of squares
+};
+
+Projection project(const Problem& pr, const Eigen::VectorXd& y, const Eigen::MatrixXd& basis) {
   const Eigen::VectorXd w = Eigen::Map<const Eigen::VectorXd>(pr.weight.data(), y.size());
   const Eigen::MatrixXd b = w.asDiagonal() * basis;
   const Eigen::VectorXd wy = w.cwiseProduct(y);
-  const Eigen::VectorXd x = b.colPivHouseholderQr().solve(wy);
-  if (t_eq) *t_eq = x;
-  return (wy - b * x).squaredNorm();
+  Projection p{b.colPivHouseholderQr(), {}, 0};
+  p.t_eq = p.qr.solve(wy);
+  p.cost = (wy - b * p.t_eq).squaredNorm();
+  return p;
+}
+
+double projected_cost(const Problem& pr, const Eigen::VectorXd& y, const Eigen::MatrixXd& basis,
+                      Eigen::VectorXd* t_eq) {
+  Projection p = project(pr, y, basis);
+  if (t_eq) *t_eq = std::move(p.t_eq);
+  return p.cost;
+}
+
+// A point of the valley's floor for the T_eq (ValleyPoint, identified.hpp): the diagonal of
+// (B^T B)^-1 from the projection's R, B P = Q R, so (B^T B)^-1 = P R^-1 R^-T P^T.
+ValleyPoint valley_point(const Problem& pr, const Eigen::VectorXd& y, const Eigen::MatrixXd& basis) {
+  const Projection p = project(pr, y, basis);
+  const auto n = p.t_eq.size();
+  const Eigen::MatrixXd r_inverse = p.qr.matrixR().topLeftCorner(n, n).triangularView<Eigen::Upper>().solve(
+      Eigen::MatrixXd::Identity(n, n));
+  ValleyPoint point;
+  point.cost = p.cost;
+  point.linear.assign(p.t_eq.data(), p.t_eq.data() + n);
+  point.conditional_variance.assign(static_cast<std::size_t>(n), 0.0);
+  for (Eigen::Index k = 0; k < n; ++k)
+    point.conditional_variance[static_cast<std::size_t>(p.qr.colsPermutation().indices()(k))] =
+        r_inverse.row(k).squaredNorm();
+  return point;
 }
 
 double projected_cost(const Problem& pr, const Eigen::VectorXd& y, double f, double tau,
@@ -182,7 +214,7 @@ int search(const Problem& pr, const Eigen::VectorXd& y, double& best_f, double& 
 // closed-form run in ten with a share below 0.15 and 8 s holds).
 struct ProfileScan {
   std::vector<std::pair<double, double>> share, time;  // (value, lowest cost)
-  std::vector<std::pair<double, double>> floor;        // (f, tau) where each lowest cost was found
+  std::vector<ValleyPoint> floor;                      // where each lowest cost was found
   double best_f = 0, best_tau = 0, best_cost = std::numeric_limits<double>::infinity();
 };
 
@@ -217,7 +249,7 @@ ProfileScan scan_profiles(const Problem& pr, const Eigen::VectorXd& y) {
     const double at_f = refined < best ? f : kShareTop * best_i / (kShares - 1);
     const double c = std::min(best, refined);
     scan.time.emplace_back(tau, c);
-    scan.floor.emplace_back(at_f, tau);
+    scan.floor.push_back(valley_point(pr, y, (1 - at_f) * pr.now + at_f * d));
     if (c < scan.best_cost) {
       scan.best_cost = c;
       scan.best_f = f;
@@ -232,30 +264,13 @@ ProfileScan scan_profiles(const Problem& pr, const Eigen::VectorXd& y) {
     const double lt = std::log(share_tau[static_cast<std::size_t>(i)]);
     const double u = golden([&](double v) { return projected_cost(pr, y, f, std::exp(v), nullptr); },
                             std::max(l0, lt - dl), std::min(l1, lt + dl));
-    const double refined = projected_cost(pr, y, f, std::exp(u), nullptr);
+    ValleyPoint refined = valley_point(pr, y, pr.basis(f, std::exp(u)));
     const double grid = share_cost[static_cast<std::size_t>(i)];
-    scan.share.emplace_back(f, std::min(grid, refined));
-    scan.floor.emplace_back(f, refined < grid ? std::exp(u) : std::exp(lt));
+    scan.share.emplace_back(f, std::min(grid, refined.cost));
+    scan.floor.push_back(refined.cost < grid ? std::move(refined)
+                                             : valley_point(pr, y, pr.basis(f, std::exp(lt))));
   }
   return scan;
-}
-
-// The valley's floor at (f, tau) for the T_eq (ValleyPoint, identified.hpp).
-ValleyPoint valley_point(const Problem& pr, const Eigen::VectorXd& y, double f, double tau) {
-  const Eigen::VectorXd w = Eigen::Map<const Eigen::VectorXd>(pr.weight.data(), y.size());
-  const Eigen::MatrixXd b = w.asDiagonal() * pr.basis(f, tau);
-  const Eigen::VectorXd wy = w.cwiseProduct(y);
-  const Eigen::MatrixXd normal = b.transpose() * b;
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(normal);
-  const Eigen::VectorXd x = ldlt.solve(b.transpose() * wy);
-  const Eigen::MatrixXd inverse = ldlt.solve(Eigen::MatrixXd::Identity(normal.rows(), normal.cols()));
-  ValleyPoint point;
-  point.cost = (wy - b * x).squaredNorm();
-  point.linear.assign(x.data(), x.data() + x.size());
-  for (Eigen::Index j = 0; j < x.size(); ++j)
-    point.conditional_variance.push_back(
-        ldlt.info() == Eigen::Success ? inverse(j, j) : std::numeric_limits<double>::infinity());
-  return point;
 }
 
 // Profile intervals of the delayed share and its time (identified.hpp): each held while the
@@ -269,7 +284,7 @@ ValleyPoint valley_point(const Problem& pr, const Eigen::VectorXd& y, double f, 
 // truth 2.7 to 5 standard errors away (the SD of (estimate - truth) / se over 72 runs).
 void profile_intervals(const Problem& pr, const Eigen::VectorXd& y, double f, double tau, double rss_min,
                        double residual_variance, const ProfileScan& scan, ParameterReport& rep) {
-  std::vector<std::pair<double, double>> floor = scan.floor;  // (f, tau)
+  std::vector<ValleyPoint> valley = scan.floor;
   auto rises = [&](const std::vector<std::pair<double, double>>& costs) {
     std::vector<std::pair<double, double>> out;
     for (const auto& [value, cost] : costs) out.emplace_back(value, (cost - rss_min) / residual_variance);
@@ -284,8 +299,8 @@ void profile_intervals(const Problem& pr, const Eigen::VectorXd& y, double f, do
       above = share > f;
       warm_lt = minimum_near([&](double u) { return projected_cost(pr, y, share, std::exp(u), nullptr); },
                              warm_lt, 0.5, std::log(kTimeRange.lo), std::log(kTimeRange.hi));
-      floor.emplace_back(share, std::exp(warm_lt));
-      return (projected_cost(pr, y, share, std::exp(warm_lt), nullptr) - rss_min) / residual_variance;
+      valley.push_back(valley_point(pr, y, pr.basis(share, std::exp(warm_lt))));
+      return (valley.back().cost - rss_min) / residual_variance;
     });
   if (std::isfinite(rep.parameters[0].se)) widen_to_profile_hull(rep.parameters[0], rises(scan.share));
   double warm_f = f;
@@ -296,12 +311,10 @@ void profile_intervals(const Problem& pr, const Eigen::VectorXd& y, double f, do
       above = time > tau;
       warm_f = minimum_near([&](double share) { return projected_cost(pr, y, share, time, nullptr); }, warm_f,
                             0.05, 0.0, 0.999);
-      floor.emplace_back(warm_f, time);
-      return (projected_cost(pr, y, warm_f, time, nullptr) - rss_min) / residual_variance;
+      valley.push_back(valley_point(pr, y, pr.basis(warm_f, time)));
+      return (valley.back().cost - rss_min) / residual_variance;
     });
   if (std::isfinite(rep.parameters[1].se)) widen_to_profile_hull(rep.parameters[1], rises(scan.time));
-  std::vector<ValleyPoint> valley;
-  for (const auto& [share, time] : floor) valley.push_back(valley_point(pr, y, share, time));
   for (std::size_t j = 0; j < pr.knots.size(); ++j)
     widen_over_valley(rep.parameters[2 + j], j, valley, rss_min, residual_variance);
 }
