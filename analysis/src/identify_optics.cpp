@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <future>
+#include <thread>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -42,6 +45,13 @@ st::GradedOptics graded(const Eigen::Vector4d& theta) {
   return g;
 }
 
+// Workers for a fit's predictions: FE and TetGen run on one core each, so the knots' geometry
+// is built on as many cores as there are, up to one per knot.
+int geometry_workers(std::size_t knots) {
+  const auto cores = static_cast<std::size_t>(std::max(1u, std::thread::hardware_concurrency()));
+  return static_cast<int>(std::clamp<std::size_t>(std::min(cores, knots), 1, 8));
+}
+
 struct Evaluation {
   Eigen::VectorXd T, se;
   Eigen::MatrixXd jacobian;  // knots x parameters
@@ -50,7 +60,7 @@ struct Evaluation {
 class Model {
  public:
   Model(const RunHistory& h, const std::vector<double>& knots, double scale, const OpticsOptions& o)
-      : h_(h), knots_(knots), scale_(scale), o_(o), predictor_(1) {
+      : h_(h), knots_(knots), scale_(scale), o_(o), predictor_(geometry_workers(knots.size())) {
     auto base = request(0.0, graded({0.6, 0.6, 1.1, 0.5}));
     base.baseline = true;
     const auto b = predictor_.predict(base);
@@ -65,27 +75,39 @@ class Model {
     const auto nk = static_cast<Eigen::Index>(knots_.size());
     Evaluation e{Eigen::VectorXd(nk), Eigen::VectorXd(nk), Eigen::MatrixXd()};
     const st::GradedOptics g = graded(theta);
-    for (Eigen::Index j = 0; j < nk; ++j) {
-      const auto p = predictor_.predict(request(knots_[static_cast<std::size_t>(j)], g));
-      ++runs;
-      e.T(j) = p.T / base_T_;
-      e.se(j) = e.T(j) * std::hypot(p.T_stderr / std::max(p.T, 1e-300), base_rel_se_);
-    }
+    std::vector<std::future<st::Prediction>> at;
+    for (const double d : knots_) at.push_back(predictor_.submit(request(d, g)));
+    for (Eigen::Index j = 0; j < nk; ++j) set_transmission(e, j, at[static_cast<std::size_t>(j)].get());
     return e;
   }
 
+  // With the Jacobian: mu_a and mu_s by perturbation Monte Carlo, n and the strain by central
+  // differences with the same seed on both sides (common random numbers). Every request is
+  // queued at once, so the workers build the knots' geometry (FE and TetGen, one core each)
+  // side by side; the requests differ in optics only, and each knot's mesh is built once.
   Evaluation evaluate(const Eigen::Vector4d& theta) {
     const auto nk = static_cast<Eigen::Index>(knots_.size());
     Evaluation e{Eigen::VectorXd(nk), Eigen::VectorXd(nk), Eigen::MatrixXd::Zero(nk, kParameters)};
     const st::GradedOptics g = graded(theta);
-    for (Eigen::Index j = 0; j < nk; ++j) {
-      const double d = knots_[static_cast<std::size_t>(j)];
+    struct Queued {
+      std::future<st::Prediction> at, n_up, n_down, strain_up, strain_down;
+    };
+    std::vector<Queued> queued;
+    for (const double d : knots_) {
       auto r = request(d, g);
       r.transmittance_derivatives = true;
-      const auto p = predictor_.predict(r);
-      ++runs;
-      e.T(j) = p.T / base_T_;
-      e.se(j) = e.T(j) * std::hypot(p.T_stderr / std::max(p.T, 1e-300), base_rel_se_);
+      Queued q;
+      q.at = predictor_.submit(r);
+      q.n_up = predictor_.submit(request(d, graded(shifted(theta, 2, kStepN))));
+      q.n_down = predictor_.submit(request(d, graded(shifted(theta, 2, -kStepN))));
+      q.strain_up = predictor_.submit(request(d, graded(shifted(theta, 3, kStepStrain))));
+      q.strain_down = predictor_.submit(request(d, graded(shifted(theta, 3, -kStepStrain))));
+      queued.push_back(std::move(q));
+    }
+    for (Eigen::Index j = 0; j < nk; ++j) {
+      Queued& q = queued[static_cast<std::size_t>(j)];
+      const auto p = q.at.get();
+      set_transmission(e, j, p);
       for (int k = 1; k <= g.bins; ++k) {
         const auto it = p.dT_dmu.find(st::kGradedRegionBase + k);
         if (it == p.dT_dmu.end()) continue;
@@ -93,8 +115,9 @@ class Model {
         e.jacobian(j, 0) += it->second.dT_dmu_a.mean * share * g.native.mu_a_per_mm / base_T_;
         e.jacobian(j, 1) += it->second.dT_dmu_s.mean * share * g.native.mu_s_per_mm / base_T_;
       }
-      e.jacobian(j, 2) = difference(d, theta, 2, kStepN);
-      e.jacobian(j, 3) = difference(d, theta, 3, kStepStrain);
+      e.jacobian(j, 2) = (q.n_up.get().T - q.n_down.get().T) / (2 * kStepN * base_T_);
+      e.jacobian(j, 3) = (q.strain_up.get().T - q.strain_down.get().T) / (2 * kStepStrain * base_T_);
+      runs += 4;
     }
     return e;
   }
@@ -117,15 +140,15 @@ class Model {
     return r;
   }
 
-  // Central difference in parameter k with the same seed on both sides (common random numbers).
-  double difference(double d, const Eigen::Vector4d& theta, int k, double step) {
-    Eigen::Vector4d up = theta, down = theta;
-    up(k) += step;
-    down(k) -= step;
-    const double t_up = predictor_.predict(request(d, graded(up))).T;
-    const double t_down = predictor_.predict(request(d, graded(down))).T;
-    runs += 2;
-    return (t_up - t_down) / (2 * step * base_T_);
+  void set_transmission(Evaluation& e, Eigen::Index j, const st::Prediction& p) {
+    ++runs;
+    e.T(j) = p.T / base_T_;
+    e.se(j) = e.T(j) * std::hypot(p.T_stderr / std::max(p.T, 1e-300), base_rel_se_);
+  }
+
+  static Eigen::Vector4d shifted(Eigen::Vector4d theta, int k, double step) {
+    theta(k) += step;
+    return theta;
   }
 
   const RunHistory& h_;

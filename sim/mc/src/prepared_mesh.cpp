@@ -63,6 +63,22 @@ std::vector<std::int32_t> locality_order(const mesh::TetMesh& m, const mesh::Bou
   return order;
 }
 
+// The ascending distinct region ids: the optics slots.
+std::vector<std::int32_t> distinct_regions(std::vector<std::int32_t> regions) {
+  std::sort(regions.begin(), regions.end());
+  regions.erase(std::unique(regions.begin(), regions.end()), regions.end());
+  if (regions.size() > 32767) {
+    throw mesh::MeshError(
+        fmt::format("mesh has {} distinct regions; at most 32767 are supported", regions.size()));
+  }
+  return regions;
+}
+
+std::int16_t slot_in(const std::vector<std::int32_t>& region_ids, std::int32_t region) {
+  return static_cast<std::int16_t>(std::lower_bound(region_ids.begin(), region_ids.end(), region) -
+                                   region_ids.begin());
+}
+
 }  // namespace
 
 PreparedMesh prepare(mesh::TetMesh input) {
@@ -73,18 +89,8 @@ PreparedMesh prepare(mesh::TetMesh input) {
   p.box = mesh::bounding_box(m);
   for (int k = 0; k < 3; ++k) p.origin[k] = 0.5 * (p.box.min[k] + p.box.max[k]);
 
-  p.region_ids = m.regions;
-  std::sort(p.region_ids.begin(), p.region_ids.end());
-  p.region_ids.erase(std::unique(p.region_ids.begin(), p.region_ids.end()), p.region_ids.end());
-
-  if (p.region_ids.size() > 32767) {
-    throw mesh::MeshError(
-        fmt::format("mesh has {} distinct regions; at most 32767 are supported", p.region_ids.size()));
-  }
-  auto slot_of = [&](std::int32_t region) {
-    return static_cast<std::int32_t>(std::lower_bound(p.region_ids.begin(), p.region_ids.end(), region) -
-                                     p.region_ids.begin());
-  };
+  p.region_ids = distinct_regions(m.regions);
+  const auto slot_of = [&](std::int32_t region) { return slot_in(p.region_ids, region); };
   const std::size_t nt = m.tets.size();
   p.original_of = locality_order(m, p.box);
   std::vector<std::int32_t> kernel_of(nt);
@@ -109,8 +115,7 @@ PreparedMesh prepare(mesh::TetMesh input) {
       k.offset[f] = static_cast<float>(planes[f].offset - shift);
       if (adj.neighbour[t][f] >= 0) {
         link.next[f] = kernel_of[static_cast<std::size_t>(adj.neighbour[t][f])];
-        link.next_slot[f] =
-            static_cast<std::int16_t>(slot_of(m.regions[static_cast<std::size_t>(adj.neighbour[t][f])]));
+        link.next_slot[f] = slot_of(m.regions[static_cast<std::size_t>(adj.neighbour[t][f])]);
         continue;
       }
       link.next_slot[f] = -1;
@@ -121,8 +126,28 @@ PreparedMesh prepare(mesh::TetMesh input) {
       if (it == p.groups.end()) it = p.groups.insert(p.groups.end(), g);
       link.next[f] = -1 - static_cast<std::int32_t>(it - p.groups.begin());
     }
-    link.region_slot = static_cast<std::int16_t>(slot_of(m.regions[t]));
+    link.region_slot = slot_of(m.regions[t]);
     link.pad_[0] = link.pad_[1] = link.pad_[2] = 0;
+  }
+  return p;
+}
+
+PreparedMesh relabel(const PreparedMesh& prepared, std::vector<std::int32_t> regions) {
+  if (regions.size() != prepared.mesh.tets.size())
+    throw mesh::MeshError(
+        fmt::format("relabel: {} regions for a mesh of {} tets", regions.size(), prepared.mesh.tets.size()));
+  PreparedMesh p = prepared;
+  p.region_ids = distinct_regions(regions);
+  p.mesh.regions = std::move(regions);
+  const auto& region = p.mesh.regions;
+  for (std::size_t kt = 0; kt < p.links.size(); ++kt) {
+    KernelLink& link = p.links[kt];
+    link.region_slot = slot_in(p.region_ids, region[static_cast<std::size_t>(p.original_of[kt])]);
+    for (int f = 0; f < 4; ++f) {
+      if (link.next[f] < 0) continue;  // a boundary face: its slot stays -1
+      const auto neighbour = static_cast<std::size_t>(p.original_of[static_cast<std::size_t>(link.next[f])]);
+      link.next_slot[f] = slot_in(p.region_ids, region[neighbour]);
+    }
   }
   return p;
 }

@@ -1,5 +1,6 @@
-// The per-step pipeline: FE (cached) -> composite tet mesh (cached) -> prepared Monte Carlo
-// mesh (cached per optics model) -> photon Monte Carlo.
+// The per-step pipeline: FE (cached) -> composite tet mesh (cached) -> its layout for transport
+// (cached) -> its regions for the optics model (cached; the graded levels relabel the layout)
+// -> photon Monte Carlo.
 #include "tocd/sim/study/predictor.hpp"
 
 #include <chrono>
@@ -47,8 +48,18 @@ struct MeshEntry {
   double seconds = 0;
 };
 
+// A composite mesh laid out for transport with the regions it was built with.
+struct LayoutEntry {
+  std::shared_ptr<const mc::PreparedMesh> prepared;
+  std::shared_ptr<const MeshEntry> mesh;
+  std::size_t pin_top_faces = 0;
+  double seconds = 0;
+};
+
+// The mesh as the request's optics see it: the layout itself, or for the graded optics the
+// layout with its skin split into strain levels.
 struct PreparedEntry {
-  mc::PreparedMesh prepared;
+  std::shared_ptr<const mc::PreparedMesh> prepared;
   std::shared_ptr<const MeshEntry> mesh;
   std::vector<std::size_t> graded_levels;  ///< tets per graded level (graded model only)
   std::size_t pin_top_faces = 0;
@@ -100,9 +111,15 @@ std::string mesh_key(const PredictionRequest& r) {
   return j.dump();
 }
 
+bool graded(const PredictionRequest& r) {
+  return !r.baseline && r.optics_model == "graded";
+}
+
+// The graded optics' levels depend on the strain of full clearing and the number of levels,
+// not on the cleared optics: a fit that varies mu_a, mu_s and n reuses the split mesh.
 std::string prepared_key(const PredictionRequest& r) {
   nlohmann::json j = {{"mesh", mesh_key(r)}, {"model", r.baseline ? "threshold" : r.optics_model}};
-  if (!r.baseline && r.optics_model == "graded") j["graded"] = to_json(r.graded);
+  if (graded(r)) j["graded"] = {{"full_strain", r.graded.full_strain}, {"bins", r.graded.bins}};
   return j.dump();
 }
 
@@ -134,6 +151,7 @@ tocd::sim::material::OgdenParameters published_skin_material() {
 struct Predictor::Impl {
   KeyedCache<FeEntry> fe{32};
   KeyedCache<MeshEntry> meshes{8};
+  KeyedCache<LayoutEntry> layouts{8};
   KeyedCache<PreparedEntry> prepared{8};
 
   std::shared_ptr<const FeEntry> solve_fe(const PredictionRequest& r, bool& hit) {
@@ -169,25 +187,42 @@ struct Predictor::Impl {
     return got.value;
   }
 
+  // Validating and laying out a mesh for transport costs as much as the Monte Carlo of a
+  // small run: done once per mesh, whatever the optics.
+  std::shared_ptr<const LayoutEntry> lay_out(const PredictionRequest& r, bool& fe_hit, bool& mesh_hit,
+                                             bool& layout_hit) {
+    auto got = layouts.get_or_compute(mesh_key(r), [&] {
+      LayoutEntry e;
+      e.mesh = build_mesh(r, fe_hit, mesh_hit);
+      const auto t0 = Clock::now();
+      for (const auto& f : e.mesh->composite.mesh.boundary_faces)
+        e.pin_top_faces += f.marker == geometry::Marker::pin_top ? 1 : 0;
+      if (e.pin_top_faces == 0)
+        throw tocd::Error("composite mesh: no boundary face carries the pin-top marker (the light source)");
+      e.prepared = std::make_shared<const mc::PreparedMesh>(mc::prepare(e.mesh->composite.mesh));
+      e.seconds = since(t0);
+      return e;
+    });
+    layout_hit = got.hit;
+    return got.value;
+  }
+
   std::shared_ptr<const PreparedEntry> prepare(const PredictionRequest& r, bool& fe_hit, bool& mesh_hit) {
     bool inner_mesh_hit = true;
-    std::shared_ptr<const MeshEntry> mesh_entry;
     auto got = prepared.get_or_compute(prepared_key(r), [&] {
-      mesh_entry = build_mesh(r, fe_hit, inner_mesh_hit);
+      bool layout_hit = true;
+      const auto layout = lay_out(r, fe_hit, inner_mesh_hit, layout_hit);
       const auto t0 = Clock::now();
-      mesh::TetMesh m = mesh_entry->composite.mesh;
-      PreparedEntry p;
-      for (const auto& f : m.boundary_faces) p.pin_top_faces += f.marker == geometry::Marker::pin_top ? 1 : 0;
-      if (p.pin_top_faces == 0)
-        throw tocd::Error("composite mesh: no boundary face carries the pin-top marker (the light source)");
-      if (!r.baseline && r.optics_model == "graded") {
-        const FeEntry* f = mesh_entry->fe.get();
+      PreparedEntry p{layout->prepared, layout->mesh, {}, layout->pin_top_faces, 0.0};
+      if (graded(r)) {
+        mesh::TetMesh split = layout->prepared->mesh;
+        const FeEntry* f = layout->mesh->fe.get();
         p.graded_levels = assign_graded_regions(
-            m, r.graded, [f](double rr, double z) { return f ? f->step.min_log_strain_at(rr, z) : 0.0; });
+            split, r.graded, [f](double rr, double z) { return f ? f->step.min_log_strain_at(rr, z) : 0.0; });
+        p.prepared = std::make_shared<const mc::PreparedMesh>(
+            mc::relabel(*layout->prepared, std::move(split.regions)));
       }
-      p.prepared = mc::prepare(std::move(m));
-      p.mesh = mesh_entry;
-      p.seconds = since(t0);
+      p.seconds = (layout_hit ? 0.0 : layout->seconds) + since(t0);
       return p;
     });
     mesh_hit = inner_mesh_hit;
@@ -234,7 +269,7 @@ Predictor::Staged Predictor::stage(const PredictionRequest& r) {
   out.fe_summary["cached"] = fe_hit;
   out.mesh_stats = mesh_stats(*st.prepared);
   out.mesh_stats["cached"] = mesh_hit;
-  out.tets = st.prepared->prepared.mesh.tets.size();
+  out.tets = st.prepared->prepared->mesh.tets.size();
 
   st.optics = optics_of(r);
   st.source.kind = mc::Source::Kind::marker;
@@ -279,7 +314,7 @@ void Predictor::complete(const PredictionRequest& r, Staged& st, const mc::Resul
     const auto files = fluence_file_names(r.fluence_dir, stem);
     // Every member of a team has the same result; one writes it.
     if (!team_ || team_->rank() == 0)
-      write_fluence_files(st.prepared->prepared, res, tip_z, r.fluence_dir, stem, 0.05, r.vtu_format);
+      write_fluence_files(*st.prepared->prepared, res, tip_z, r.fluence_dir, stem, 0.05, r.vtu_format);
     out.fluence = {{"vtu", files.vtu.string()},
                    {"horizontal_csv", files.horizontal_csv.string()},
                    {"vertical_csv", files.vertical_csv.string()},
@@ -290,7 +325,7 @@ void Predictor::complete(const PredictionRequest& r, Staged& st, const mc::Resul
 Prediction Predictor::predict(const PredictionRequest& r) {
   Staged st = stage(r);
   st.settings.team = team_;
-  const mc::Result res = mc::run(st.prepared->prepared, st.optics, st.source, st.settings);
+  const mc::Result res = mc::run(*st.prepared->prepared, st.optics, st.source, st.settings);
   if (res.cancelled) {
     throw tocd::Cancelled(fmt::format("prediction cancelled during the Monte Carlo ({} of {} photons)",
                                       res.photons, r.photons));
@@ -301,12 +336,12 @@ Prediction Predictor::predict(const PredictionRequest& r) {
 
 mc::Tallies Predictor::run_batches(const PredictionRequest& r, int first_batch, int last_batch) {
   const Staged st = stage(r);
-  return mc::run_batches(st.prepared->prepared, st.optics, st.source, st.settings, first_batch, last_batch);
+  return mc::run_batches(*st.prepared->prepared, st.optics, st.source, st.settings, first_batch, last_batch);
 }
 
 Prediction Predictor::assemble(const PredictionRequest& r, const mc::Tallies& summed, double mc_seconds) {
   Staged st = stage(r);
-  mc::Result res = mc::finish(st.prepared->prepared, st.optics, st.settings, summed);
+  mc::Result res = mc::finish(*st.prepared->prepared, st.optics, st.settings, summed);
   res.seconds = mc_seconds;
   res.photons_per_second = mc_seconds > 0 ? static_cast<double>(res.photons) / mc_seconds : 0.0;
   res.events_per_second = mc_seconds > 0 ? static_cast<double>(res.events) / mc_seconds : 0.0;
