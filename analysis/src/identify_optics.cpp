@@ -63,8 +63,7 @@ class Model {
       : h_(h), knots_(knots), scale_(scale), o_(o), predictor_(geometry_workers(knots.size())) {
     auto base = request(0.0, graded({0.6, 0.6, 1.1, 0.5}));
     base.baseline = true;
-    const auto b = predictor_.predict(base);
-    ++runs;
+    const auto b = queue(base).get();
     if (!(b.T > 0)) throw Error("the glass-only baseline transmits nothing");
     base_T_ = b.T;
     base_rel_se_ = b.T_stderr / b.T;
@@ -76,7 +75,7 @@ class Model {
     Evaluation e{Eigen::VectorXd(nk), Eigen::VectorXd(nk), Eigen::MatrixXd()};
     const st::GradedOptics g = graded(theta);
     std::vector<std::future<st::Prediction>> at;
-    for (const double d : knots_) at.push_back(predictor_.submit(request(d, g)));
+    for (const double d : knots_) at.push_back(queue(request(d, g)));
     for (Eigen::Index j = 0; j < nk; ++j) set_transmission(e, j, at[static_cast<std::size_t>(j)].get());
     return e;
   }
@@ -97,11 +96,11 @@ class Model {
       auto r = request(d, g);
       r.transmittance_derivatives = true;
       Queued q;
-      q.at = predictor_.submit(r);
-      q.n_up = predictor_.submit(request(d, graded(shifted(theta, 2, kStepN))));
-      q.n_down = predictor_.submit(request(d, graded(shifted(theta, 2, -kStepN))));
-      q.strain_up = predictor_.submit(request(d, graded(shifted(theta, 3, kStepStrain))));
-      q.strain_down = predictor_.submit(request(d, graded(shifted(theta, 3, -kStepStrain))));
+      q.at = queue(r);
+      q.n_up = queue(request(d, graded(shifted(theta, 2, kStepN))));
+      q.n_down = queue(request(d, graded(shifted(theta, 2, -kStepN))));
+      q.strain_up = queue(request(d, graded(shifted(theta, 3, kStepStrain))));
+      q.strain_down = queue(request(d, graded(shifted(theta, 3, -kStepStrain))));
       queued.push_back(std::move(q));
     }
     for (Eigen::Index j = 0; j < nk; ++j) {
@@ -117,7 +116,6 @@ class Model {
       }
       e.jacobian(j, 2) = (q.n_up.get().T - q.n_down.get().T) / (2 * kStepN * base_T_);
       e.jacobian(j, 3) = (q.strain_up.get().T - q.strain_down.get().T) / (2 * kStepStrain * base_T_);
-      runs += 4;
     }
     return e;
   }
@@ -140,8 +138,13 @@ class Model {
     return r;
   }
 
-  void set_transmission(Evaluation& e, Eigen::Index j, const st::Prediction& p) {
+  // Every Monte Carlo run of the fit goes through here, and is counted here.
+  std::future<st::Prediction> queue(const st::PredictionRequest& r) {
     ++runs;
+    return predictor_.submit(r);
+  }
+
+  void set_transmission(Evaluation& e, Eigen::Index j, const st::Prediction& p) {
     e.T(j) = p.T / base_T_;
     e.se(j) = e.T(j) * std::hypot(p.T_stderr / std::max(p.T, 1e-300), base_rel_se_);
   }

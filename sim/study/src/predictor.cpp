@@ -60,9 +60,8 @@ struct LayoutEntry {
 // layout with its skin split into strain levels.
 struct PreparedEntry {
   std::shared_ptr<const mc::PreparedMesh> prepared;
-  std::shared_ptr<const MeshEntry> mesh;
-  std::vector<std::size_t> graded_levels;  ///< tets per graded level (graded model only)
-  std::size_t pin_top_faces = 0;
+  std::shared_ptr<const LayoutEntry> layout;  ///< the mesh and layout it was made from
+  std::vector<std::size_t> graded_levels;     ///< tets per graded level (graded model only)
   double seconds = 0;
 };
 
@@ -124,12 +123,12 @@ std::string prepared_key(const PredictionRequest& r) {
 }
 
 nlohmann::json mesh_stats(const PreparedEntry& p) {
-  const auto& c = p.mesh->composite;
+  const auto& c = p.layout->mesh->composite;
   nlohmann::json j;
   j["tets"] = c.mesh.tets.size();
   j["nodes"] = c.mesh.nodes.size();
   j["boundary_faces"] = c.mesh.boundary_faces.size();
-  j["pin_top_faces"] = p.pin_top_faces;
+  j["pin_top_faces"] = p.layout->pin_top_faces;
   j["mesh_seconds"] = c.seconds;
   j["prepare_seconds"] = p.seconds;
   auto& regions = j["regions"] = nlohmann::json::array();
@@ -213,7 +212,7 @@ struct Predictor::Impl {
       bool layout_hit = true;
       const auto layout = lay_out(r, fe_hit, inner_mesh_hit, layout_hit);
       const auto t0 = Clock::now();
-      PreparedEntry p{layout->prepared, layout->mesh, {}, layout->pin_top_faces, 0.0};
+      PreparedEntry p{layout->prepared, layout, {}, 0.0};
       if (graded(r)) {
         mesh::TetMesh split = layout->prepared->mesh;
         const FeEntry* f = layout->mesh->fe.get();
