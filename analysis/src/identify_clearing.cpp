@@ -38,7 +38,7 @@ void hat_weights(const std::vector<double>& knots, double x, std::size_t& lo, do
   w_lo = 1 - w_hi;
 }
 
-struct Problem {
+struct ClearingProblem {
   const RunHistory& h;
   std::vector<double> knots;
   std::vector<std::size_t> rows;     // meter readings in the holds
@@ -83,7 +83,7 @@ struct Projection {
   double cost = 0;  // weighted residual sum of squares
 };
 
-Projection project(const Problem& pr, const Eigen::VectorXd& y, const Eigen::MatrixXd& basis) {
+Projection project(const ClearingProblem& pr, const Eigen::VectorXd& y, const Eigen::MatrixXd& basis) {
   const Eigen::VectorXd w = Eigen::Map<const Eigen::VectorXd>(pr.weight.data(), y.size());
   const Eigen::MatrixXd b = w.asDiagonal() * basis;
   const Eigen::VectorXd wy = w.cwiseProduct(y);
@@ -93,7 +93,7 @@ Projection project(const Problem& pr, const Eigen::VectorXd& y, const Eigen::Mat
   return p;
 }
 
-double projected_cost(const Problem& pr, const Eigen::VectorXd& y, const Eigen::MatrixXd& basis,
+double projected_cost(const ClearingProblem& pr, const Eigen::VectorXd& y, const Eigen::MatrixXd& basis,
                       Eigen::VectorXd* t_eq) {
   Projection p = project(pr, y, basis);
   if (t_eq) *t_eq = std::move(p.t_eq);
@@ -102,7 +102,7 @@ double projected_cost(const Problem& pr, const Eigen::VectorXd& y, const Eigen::
 
 // A point of the valley's floor for the T_eq (ValleyPoint, identified.hpp): the diagonal of
 // (B^T B)^-1 from the projection's R, B P = Q R, so (B^T B)^-1 = P R^-1 R^-T P^T.
-ValleyPoint valley_point(const Problem& pr, const Eigen::VectorXd& y, const Eigen::MatrixXd& basis) {
+ValleyPoint valley_point(const ClearingProblem& pr, const Eigen::VectorXd& y, const Eigen::MatrixXd& basis) {
   const Projection p = project(pr, y, basis);
   const auto n = p.t_eq.size();
   const Eigen::MatrixXd r_inverse = p.qr.matrixR().topLeftCorner(n, n).triangularView<Eigen::Upper>().solve(
@@ -117,7 +117,7 @@ ValleyPoint valley_point(const Problem& pr, const Eigen::VectorXd& y, const Eige
   return point;
 }
 
-double projected_cost(const Problem& pr, const Eigen::VectorXd& y, double f, double tau,
+double projected_cost(const ClearingProblem& pr, const Eigen::VectorXd& y, double f, double tau,
                       Eigen::VectorXd* t_eq) {
   return projected_cost(pr, y, pr.basis(f, tau), t_eq);
 }
@@ -170,7 +170,7 @@ double minimum_near(Cost cost, double centre, double half, double lo, double hi)
 // hardly falls: on closed-form runs with the demo's holds one in five used all 20 rounds and was
 // reported as not converged, although Gauss-Newton steps from there moved no estimate by 1e-4
 // of its standard error. Returns the rounds (21: it ran out of them).
-int refine(const Problem& pr, const Eigen::VectorXd& y, double& best_f, double& best_tau) {
+int refine(const ClearingProblem& pr, const Eigen::VectorXd& y, double& best_f, double& best_tau) {
   int rounds = 0;
   double cost = projected_cost(pr, y, best_f, best_tau, nullptr);
   for (; rounds < 20; ++rounds) {
@@ -190,7 +190,7 @@ int refine(const Problem& pr, const Eigen::VectorXd& y, double& best_f, double& 
 
 // Variable projection on a grid of (f, ln tau_w), then refine(): the T_eq are solved exactly at
 // every point. Returns the rounds.
-int search(const Problem& pr, const Eigen::VectorXd& y, double& best_f, double& best_tau) {
+int search(const ClearingProblem& pr, const Eigen::VectorXd& y, double& best_f, double& best_tau) {
   const double span = span_of(pr.h);
   double best = std::numeric_limits<double>::infinity();
   for (int i = 0; i <= 20; ++i)
@@ -218,7 +218,7 @@ struct ProfileScan {
   double best_f = 0, best_tau = 0, best_cost = std::numeric_limits<double>::infinity();
 };
 
-ProfileScan scan_profiles(const Problem& pr, const Eigen::VectorXd& y) {
+ProfileScan scan_profiles(const ClearingProblem& pr, const Eigen::VectorXd& y) {
   constexpr int kTimes = 49, kShares = 41;
   constexpr double kShareTop = 0.999;
   ProfileScan scan;
@@ -282,8 +282,9 @@ ProfileScan scan_profiles(const Problem& pr, const Eigen::VectorXd& y) {
 // widened over the valley's floor that both profiles and the scan walked (widen_over_valley).
 // On closed-form runs with the demo's holds and a share below 0.25 their Wald intervals put the
 // truth 2.7 to 5 standard errors away (the SD of (estimate - truth) / se over 72 runs).
-void profile_intervals(const Problem& pr, const Eigen::VectorXd& y, double f, double tau, double rss_min,
-                       double residual_variance, const ProfileScan& scan, ParameterReport& rep) {
+void profile_intervals(const ClearingProblem& pr, const Eigen::VectorXd& y, double f, double tau,
+                       double rss_min, double residual_variance, const ProfileScan& scan,
+                       ParameterReport& rep) {
   std::vector<ValleyPoint> valley = scan.floor;
   auto rises = [&](const std::vector<std::pair<double, double>>& costs) {
     std::vector<std::pair<double, double>> out;
@@ -321,7 +322,7 @@ void profile_intervals(const Problem& pr, const Eigen::VectorXd& y, double f, do
 
 // The held displacements as knots, and the meter readings within the holds as rows; the
 // contiguous rows of each hold are returned as segments (for the residuals' autocorrelation).
-std::vector<std::pair<std::size_t, std::size_t>> collect_rows(Problem& pr) {
+std::vector<std::pair<std::size_t, std::size_t>> collect_rows(ClearingProblem& pr) {
   const RunHistory& h = pr.h;
   for (const auto& hold : h.holds) pr.knots.push_back(hold.displacement_mm);
   std::sort(pr.knots.begin(), pr.knots.end());
@@ -355,7 +356,7 @@ std::vector<std::pair<std::size_t, std::size_t>> collect_rows(Problem& pr) {
 // between readings, as a hold's clearing does over 0.1 s), not from a fit's residuals:
 // residuals of a fit in the wrong valley are large where it misfits, and weights taken from
 // them would hide that misfit and keep the search there.
-void weigh_by_hold_noise(Problem& pr, const Eigen::VectorXd& y) {
+void weigh_by_hold_noise(ClearingProblem& pr, const Eigen::VectorXd& y) {
   const std::size_t holds = pr.h.holds.size();
   std::vector<double> diff_sq(holds, 0.0), diffs(holds, 0.0);
   for (std::size_t k = 1; k < pr.rows.size(); ++k) {
@@ -381,7 +382,7 @@ void weigh_by_hold_noise(Problem& pr, const Eigen::VectorXd& y) {
 
 // Jacobian in (f, tau_w, T_eq): the basis at (f, tau_w), b, for the T_eq; central differences
 // for f and tau_w.
-Eigen::MatrixXd jacobian(const Problem& pr, double f, double tau, const Eigen::VectorXd& t_eq,
+Eigen::MatrixXd jacobian(const ClearingProblem& pr, double f, double tau, const Eigen::VectorXd& t_eq,
                          const Eigen::MatrixXd& b) {
   Eigen::MatrixXd jac(static_cast<Eigen::Index>(pr.rows.size()),
                       static_cast<Eigen::Index>(pr.knots.size() + 2));
@@ -427,7 +428,7 @@ std::vector<ClearingIdentification::Window> windows_of(const RunHistory& h, cons
 }  // namespace
 
 ClearingIdentification identify_clearing(const RunHistory& h) {
-  Problem pr{h, {}, {}, {}, {}, {}, {}};
+  ClearingProblem pr{h, {}, {}, {}, {}, {}, {}};
   const auto segments = collect_rows(pr);
   const std::size_t n_par = pr.knots.size() + 2;
   if (pr.rows.size() <= n_par)

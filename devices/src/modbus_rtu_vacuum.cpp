@@ -16,7 +16,7 @@
 namespace tocd::devices {
 namespace {
 
-namespace m = vacuum_map;
+namespace vm = vacuum_map;
 
 class ModbusRtuVacuum final : public VacuumController {
  public:
@@ -25,30 +25,30 @@ class ModbusRtuVacuum final : public VacuumController {
     link_.open();
   }
 
-  const InstrumentCapabilities& describe() const override { return m::capabilities; }
+  const InstrumentCapabilities& describe() const override { return vm::capabilities; }
 
   Identity identity() override {
     std::array<std::uint16_t, 1 + tester_map::identity_regs> regs{};
-    link_.read_input(m::in_map_version, static_cast<int>(regs.size()), regs.data(), "map version, identity");
-    return decode_identity_block(regs.data(), m::map_version, link_.instrument());
+    link_.read_input(vm::in_map_version, static_cast<int>(regs.size()), regs.data(), "map version, identity");
+    return decode_identity_block(regs.data(), vm::map_version, link_.instrument());
   }
 
   VacuumReading read() override {
-    std::array<std::uint16_t, m::in_poll_count> r{};
-    link_.read_input(0, m::in_poll_count, r.data(), "pressure, setpoint, status, error code");
+    std::array<std::uint16_t, vm::in_poll_count> r{};
+    link_.read_input(0, vm::in_poll_count, r.data(), "pressure, setpoint, status, error code");
     VacuumReading out;
     out.t_ns = monotonic_ns();
-    out.pressure_kPa = registers_to_float(r[m::in_pressure], r[m::in_pressure + 1]);
-    out.setpoint_kPa = registers_to_float(r[m::in_setpoint], r[m::in_setpoint + 1]);
+    out.pressure_kPa = registers_to_float(r[vm::in_pressure], r[vm::in_pressure + 1]);
+    out.setpoint_kPa = registers_to_float(r[vm::in_setpoint], r[vm::in_setpoint + 1]);
     if (!std::isfinite(out.pressure_kPa) || out.pressure_kPa < 0.0)
       throw ProtocolError(link_.instrument(), "read of input registers 0..1 (pressure)",
                           fmt::format("the pressure is not a finite number >= 0 (got {})", out.pressure_kPa));
     if (!std::isfinite(out.setpoint_kPa))
       throw ProtocolError(link_.instrument(), "read of input registers 2..3 (setpoint)",
                           "the setpoint is not a finite number");
-    out.pump_running = r[m::in_status] & m::st_pump_running;
-    out.vent_open = r[m::in_status] & m::st_vent_open;
-    out.error_code = r[m::in_error_code];
+    out.pump_running = r[vm::in_status] & vm::st_pump_running;
+    out.vent_open = r[vm::in_status] & vm::st_vent_open;
+    out.error_code = r[vm::in_error_code];
     return out;
   }
 
@@ -57,11 +57,11 @@ class ModbusRtuVacuum final : public VacuumController {
       throw ConfigError(fmt::format("{}: the setpoint must be a finite absolute pressure > 0 kPa (got {})",
                                     link_.instrument(), kPa));
     const auto regs = float_to_registers(static_cast<float>(kPa));
-    link_.write_registers(m::hr_setpoint, 2, regs.data(), "setpoint");
+    link_.write_registers(vm::hr_setpoint, 2, regs.data(), "setpoint");
   }
 
-  void run_pump(bool on) override { link_.write_register(m::hr_pump_run, on ? 1 : 0, "pump run"); }
-  void set_vent(bool open) override { link_.write_register(m::hr_vent, open ? 1 : 0, "vent valve"); }
+  void run_pump(bool on) override { link_.write_register(vm::hr_pump_run, on ? 1 : 0, "pump run"); }
+  void set_vent(bool open) override { link_.write_register(vm::hr_vent, open ? 1 : 0, "vent valve"); }
 
  private:
   ModbusLink link_;

@@ -11,12 +11,14 @@
 
 #include <gtest/gtest.h>
 
+#include "colour_match.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/plot/figures.hpp"
 #include "tocd/plot/inputs.hpp"
 
 namespace fs = std::filesystem;
 using namespace tocd::plot;
+using tocd::plot::testing::same_colour;
 
 namespace {
 
@@ -24,11 +26,6 @@ fs::path out_file(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / "tocd_test_plot";
   fs::create_directories(dir);
   return dir / name;
-}
-
-bool same(QColor c, Rgb want, int tolerance = 3) {
-  return std::abs(c.red() - want.r) <= tolerance && std::abs(c.green() - want.g) <= tolerance &&
-         std::abs(c.blue() - want.b) <= tolerance;
 }
 
 // Relative luminance (ITU-R BT.709 weights on the 8-bit values): ordering only.
@@ -113,7 +110,7 @@ TEST(PlotBars, BarHeightsAreProportionalToTheValues) {
   for (int k = 0; k < 3; ++k) {
     const int x = static_cast<int>(area.x + (k + 0.5) * slot);
     int h = 0;
-    for (int y = 0; y < img.height(); ++y) h += same(img.pixelColor(x, y), kMeasuredColour) ? 1 : 0;
+    for (int y = 0; y < img.height(); ++y) h += same_colour(img.pixelColor(x, y), kMeasuredColour) ? 1 : 0;
     heights.push_back(h);
   }
   // Heights 1 : 2 : 4 of the value scale; +-2 px covers the antialiased edge rows.
@@ -122,12 +119,14 @@ TEST(PlotBars, BarHeightsAreProportionalToTheValues) {
   EXPECT_NEAR(heights[2], 4.0 * heights[0], 3.0);
   // Between bars, just above the axis: background.
   const int between = static_cast<int>(area.x + slot);
-  EXPECT_TRUE(same(img.pixelColor(between, static_cast<int>(area.y + area.height - 3)), kBackgroundColour));
+  EXPECT_TRUE(
+      same_colour(img.pixelColor(between, static_cast<int>(area.y + area.height - 3)), kBackgroundColour));
   // Along a row just above the axis: exactly three runs of bar colour.
   int runs = 0;
   bool in_bar = false;
   for (int x = static_cast<int>(area.x); x < static_cast<int>(area.x + area.width); ++x) {
-    const bool bar = same(img.pixelColor(x, static_cast<int>(area.y + area.height - 3)), kMeasuredColour);
+    const bool bar =
+        same_colour(img.pixelColor(x, static_cast<int>(area.y + area.height - 3)), kMeasuredColour);
     if (bar && !in_bar) ++runs;
     in_bar = bar;
   }
@@ -166,7 +165,7 @@ TEST(PlotTornado, BarsRunBothWaysFromZeroAndUnresolvedOnesArePale) {
   auto run = [&](int y, Rgb colour, int& first, int& last) {
     first = -1, last = -1;
     for (int x = 0; x < img.width(); ++x)
-      if (same(img.pixelColor(x, y), colour)) {
+      if (same_colour(img.pixelColor(x, y), colour)) {
         if (first < 0) first = x;
         last = x;
       }
@@ -235,9 +234,9 @@ TEST(PlotSlices, LogColoursRegionOutlineNoDataAndMonotoneColourBar) {
     return img.pixelColor(static_cast<int>(p.x + fx * p.width), static_cast<int>(p.y + (1 - fy) * p.height));
   };
   // Low end of the scale on the left (viridis start), high end on the right (viridis end).
-  EXPECT_TRUE(same(at(0.25, 0.3), fluence_ramp(0.0))) << at(0.25, 0.3).name().toStdString();
-  EXPECT_TRUE(same(at(0.75, 0.3), fluence_ramp(1.0))) << at(0.75, 0.3).name().toStdString();
-  EXPECT_TRUE(same(at(0.05, 0.95), kNoDataColour)) << at(0.05, 0.95).name().toStdString();
+  EXPECT_TRUE(same_colour(at(0.25, 0.3), fluence_ramp(0.0))) << at(0.25, 0.3).name().toStdString();
+  EXPECT_TRUE(same_colour(at(0.75, 0.3), fluence_ramp(1.0))) << at(0.75, 0.3).name().toStdString();
+  EXPECT_TRUE(same_colour(at(0.05, 0.95), kNoDataColour)) << at(0.05, 0.95).name().toStdString();
   // The region boundary at x = 0 (the panel's middle) is outlined: some pixel of the column
   // within one pixel of it has the outline colour.
   const int mid = static_cast<int>(p.x + 0.5 * p.width);
@@ -254,8 +253,9 @@ TEST(PlotSlices, LogColoursRegionOutlineNoDataAndMonotoneColourBar) {
     EXPECT_GE(l, last - 0.5) << "colour bar row " << yy;
     last = l;
   }
-  EXPECT_TRUE(same(img.pixelColor(bx, static_cast<int>(bar.y + bar.height) - 2), fluence_ramp(0.0), 8));
-  EXPECT_TRUE(same(img.pixelColor(bx, static_cast<int>(bar.y) + 2), fluence_ramp(1.0), 8));
+  EXPECT_TRUE(
+      same_colour(img.pixelColor(bx, static_cast<int>(bar.y + bar.height) - 2), fluence_ramp(0.0), 8));
+  EXPECT_TRUE(same_colour(img.pixelColor(bx, static_cast<int>(bar.y) + 2), fluence_ramp(1.0), 8));
 }
 
 TEST(PlotSlices, RefusesSlicesWithoutPositiveFluence) {
@@ -310,7 +310,7 @@ TEST(PlotFit, SvgHasEveryDataPointAndTheCurve) {
   int curve_pixels = 0;
   for (int y = static_cast<int>(a.y); y < static_cast<int>(a.y + a.height); ++y)
     for (int x = static_cast<int>(a.x + a.width / 2); x < static_cast<int>(a.x + a.width); ++x)
-      curve_pixels += same(img.pixelColor(x, y), kPredictedColour, 10) ? 1 : 0;
+      curve_pixels += same_colour(img.pixelColor(x, y), kPredictedColour, 10) ? 1 : 0;
   EXPECT_GT(curve_pixels, 100);
 }
 

@@ -14,24 +14,21 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "colour_match.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/plot/figures.hpp"
 #include "tocd/plot/inputs.hpp"
 
 namespace fs = std::filesystem;
 using namespace tocd::plot;
+using tocd::plot::testing::same_colour;
 
 namespace {
 
-fs::path out_file(const std::string& name) {
+fs::path models_out_file(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / "tocd_test_plot_models";
   fs::create_directories(dir);
   return dir / name;
-}
-
-bool same(QColor c, Rgb want, int tolerance = 3) {
-  return std::abs(c.red() - want.r) <= tolerance && std::abs(c.green() - want.g) <= tolerance &&
-         std::abs(c.blue() - want.b) <= tolerance;
 }
 
 std::string hex_of(Rgb c) {
@@ -167,7 +164,7 @@ void marker_and_bar_columns(const QImage& img, const CompareMarker& m, Rgb colou
   const int row = static_cast<int>(std::floor(m.y));
   int first = -1, last = -1;
   for (int x = static_cast<int>(m.x) - 12; x <= static_cast<int>(m.x) + 12; ++x)
-    if (same(img.pixelColor(x, row), colour, 10)) {
+    if (same_colour(img.pixelColor(x, row), colour, 10)) {
       if (first < 0) first = x;
       last = x;
     }
@@ -207,7 +204,7 @@ TEST(PlotCompare, ErrorBarsAreCentredOnTheirMarkersForMeasuredAndPredicted) {
   EXPECT_TRUE(contains(l.legend[0], "\u00b11 standard error")) << l.legend[0];
   EXPECT_TRUE(contains(l.legend[1], "\u00b11 Monte Carlo standard error")) << l.legend[1];
   // On the picture: the bar's dark column is the marker's middle column.
-  const fs::path png = out_file("compare.png");
+  const fs::path png = models_out_file("compare.png");
   write_figure(f, png, size);
   const QImage img(QString::fromStdString(png.string()));
   ASSERT_FALSE(img.isNull());
@@ -252,14 +249,14 @@ TEST(PlotTornado, TitleNamesTheStepAndTheKeyExplainsPaleAndDarkBars) {
   }
   EXPECT_FALSE(overlap(l.key_boxes[0], l.key_boxes[1]));
   // The picture's key shows both colours, in their boxes.
-  const fs::path png = out_file("tornado.png");
+  const fs::path png = models_out_file("tornado.png");
   write_figure(f, png, size);
   const QImage img(QString::fromStdString(png.string()));
   const Rgb colours[2] = {kMeasuredColour, kUnresolvedColour};
   for (int k = 0; k < 2; ++k) {
     const PixelRect& b = l.key_boxes[static_cast<std::size_t>(k)];
-    EXPECT_TRUE(
-        same(img.pixelColor(static_cast<int>(b.x + 7), static_cast<int>(b.y + b.height / 2)), colours[k]))
+    EXPECT_TRUE(same_colour(img.pixelColor(static_cast<int>(b.x + 7), static_cast<int>(b.y + b.height / 2)),
+                            colours[k]))
         << "key entry " << k;
   }
 }
@@ -307,7 +304,7 @@ TEST(PlotSlices, ScaleTopIsRobustToHotCellsAndEmptyCellsInsideAreNotOutside) {
   EXPECT_EQ(hex_of(slice_cell_colour(0.0, 4, l)), hex_of(fluence_ramp(0.0)));
   EXPECT_EQ(hex_of(slice_cell_colour(std::nan(""), 0, l)), hex_of(kNoDataColour));
   // On the picture: the empty cells are the ramp's bottom, the corner outside is grey.
-  const fs::path png = out_file("slices.png");
+  const fs::path png = models_out_file("slices.png");
   write_figure(f, png, size);
   const QImage img(QString::fromStdString(png.string()));
   ASSERT_FALSE(img.isNull());
@@ -316,9 +313,9 @@ TEST(PlotSlices, ScaleTopIsRobustToHotCellsAndEmptyCellsInsideAreNotOutside) {
     return img.pixelColor(static_cast<int>(p.x + x_mm / 10.0 * p.width),
                           static_cast<int>(p.y + (1 - z_mm / 4.0) * p.height));
   };
-  EXPECT_TRUE(same(at(3.2, 1.05), fluence_ramp(0.0))) << at(3.2, 1.05).name().toStdString();
-  EXPECT_TRUE(same(at(0.1, 3.9), kNoDataColour)) << at(0.1, 3.9).name().toStdString();
-  EXPECT_TRUE(same(at(5.15, 2.05), fluence_ramp(1.0))) << at(5.15, 2.05).name().toStdString();
+  EXPECT_TRUE(same_colour(at(3.2, 1.05), fluence_ramp(0.0))) << at(3.2, 1.05).name().toStdString();
+  EXPECT_TRUE(same_colour(at(0.1, 3.9), kNoDataColour)) << at(0.1, 3.9).name().toStdString();
+  EXPECT_TRUE(same_colour(at(5.15, 2.05), fluence_ramp(1.0))) << at(5.15, 2.05).name().toStdString();
   // A plain field keeps its largest value as the top (nothing clipped, no ">=").
   SliceFigure plain;
   plain.panels = {noisy_slice()};

@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "background.hpp"
+#include "qt_text.hpp"
 #include "tocd/analysis/fitted_comparison.hpp"
 #include "tocd/db/export.hpp"
 #include "tocd/db/location.hpp"
@@ -12,10 +13,6 @@
 namespace tocd::gui {
 
 namespace {
-
-QString qs(const std::string& s) {
-  return QString::fromStdString(s);
-}
 
 QDateTime utc_of(std::int64_t epoch_ns) {
   return QDateTime::fromMSecsSinceEpoch(epoch_ns / 1000000, Qt::UTC);

@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "background.hpp"
+#include "qt_text.hpp"
 #include "tocd/acquisition/lab_session.hpp"
 #include "tocd/acquisition/protocol.hpp"
 #include "tocd/devices/errors.hpp"
@@ -13,10 +14,6 @@
 namespace tocd::gui {
 
 namespace {
-
-QString qs(const std::string& s) {
-  return QString::fromStdString(s);
-}
 
 InstrumentIdentity identity_of(InstrumentKind kind, const devices::Identity& id) {
   return {kind, qs(id.vendor), qs(id.model), qs(id.serial), qs(id.firmware)};

@@ -33,11 +33,6 @@ namespace {
 // Bytes before the PDU (MBAP header; slave id) and after it (CRC) in an ADU.
 constexpr int tcp_header_length = 7, rtu_header_length = 1, rtu_crc_length = 2;
 
-void put16(std::vector<std::uint8_t>& out, std::uint16_t v) {
-  out.push_back(static_cast<std::uint8_t>(v >> 8));
-  out.push_back(static_cast<std::uint8_t>(v & 0xFF));
-}
-
 /// Wraps a PDU in the transport's framing, answering as `slave`.
 std::vector<std::uint8_t> frame(bool tcp, const std::uint8_t* req, std::uint8_t slave,
                                 const std::vector<std::uint8_t>& pdu, bool corrupt_crc) {
@@ -45,8 +40,8 @@ std::vector<std::uint8_t> frame(bool tcp, const std::uint8_t* req, std::uint8_t 
   if (tcp) {
     out.push_back(req[0]);  // transaction id
     out.push_back(req[1]);
-    put16(out, 0);  // protocol id
-    put16(out, static_cast<std::uint16_t>(pdu.size() + 1));
+    put_be16(out, 0);  // protocol id
+    put_be16(out, static_cast<std::uint16_t>(pdu.size() + 1));
     out.push_back(slave);
     for (const auto b : pdu) out.push_back(b);
     return out;

@@ -10,11 +10,6 @@ std::uint16_t be16(const std::uint8_t* p) {
   return static_cast<std::uint16_t>((p[0] << 8) | p[1]);
 }
 
-void put16(std::vector<std::uint8_t>& out, std::uint16_t v) {
-  out.push_back(static_cast<std::uint8_t>(v >> 8));
-  out.push_back(static_cast<std::uint8_t>(v & 0xFF));
-}
-
 constexpr int illegal_function = 1, illegal_address = 2, illegal_value = 3;
 
 }  // namespace
@@ -70,13 +65,13 @@ std::vector<std::uint8_t> answer_pdu(const ModbusRequest& r, const modbus_mappin
     const std::uint16_t* table = input ? map.tab_input_registers : map.tab_registers;
     const int size = input ? map.nb_input_registers : map.nb_registers;
     pdu.push_back(static_cast<std::uint8_t>(2 * registers));
-    for (int i = 0; i < registers; ++i) put16(pdu, r.address + i < size ? table[r.address + i] : 0);
+    for (int i = 0; i < registers; ++i) put_be16(pdu, r.address + i < size ? table[r.address + i] : 0);
   } else if (r.function == MODBUS_FC_WRITE_SINGLE_REGISTER) {
-    put16(pdu, static_cast<std::uint16_t>(r.address));
-    put16(pdu, r.values.at(0));
+    put_be16(pdu, static_cast<std::uint16_t>(r.address));
+    put_be16(pdu, r.values.at(0));
   } else {
-    put16(pdu, static_cast<std::uint16_t>(r.address));
-    put16(pdu, static_cast<std::uint16_t>(r.count));
+    put_be16(pdu, static_cast<std::uint16_t>(r.address));
+    put_be16(pdu, static_cast<std::uint16_t>(r.count));
   }
   return pdu;
 }

@@ -37,4 +37,10 @@ std::vector<std::uint8_t> answer_pdu(const ModbusRequest& r, const modbus_mappin
 /// An exception answer PDU.
 std::vector<std::uint8_t> exception_pdu(int function, int code);
 
+/// Appends v to out in Modbus's byte order (big-endian).
+inline void put_be16(std::vector<std::uint8_t>& out, std::uint16_t v) {
+  out.push_back(static_cast<std::uint8_t>(v >> 8));
+  out.push_back(static_cast<std::uint8_t>(v & 0xFF));
+}
+
 }  // namespace tocd::mocks

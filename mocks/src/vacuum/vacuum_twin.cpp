@@ -26,7 +26,7 @@
 
 namespace tocd::mocks {
 
-namespace m = tocd::devices::vacuum_map;
+namespace vm = tocd::devices::vacuum_map;
 
 namespace {
 
@@ -37,42 +37,42 @@ class VacuumRegisters final : public RegisterDevice {
   void refresh(modbus_mapping_t& map) override {
     physics_.advance(static_cast<double>(clock_.now_ns()) * 1e-9);
     std::uint16_t* in = map.tab_input_registers;
-    put_float(in, m::in_pressure, physics_.pressure_kPa());
-    put_float(in, m::in_setpoint, physics_.setpoint_kPa());
+    put_float(in, vm::in_pressure, physics_.pressure_kPa());
+    put_float(in, vm::in_setpoint, physics_.setpoint_kPa());
     std::uint16_t s = 0;
-    if (physics_.pump_running()) s |= m::st_pump_running;
-    if (physics_.vent_open()) s |= m::st_vent_open;
-    if (physics_.at_setpoint()) s |= m::st_at_setpoint;
-    if (physics_.error_code() != 0) s |= m::st_error;
-    in[m::in_status] = s;
-    in[m::in_error_code] = physics_.error_code();
-    map.tab_registers[m::hr_pump_run] = physics_.pump_running() ? 1 : 0;
+    if (physics_.pump_running()) s |= vm::st_pump_running;
+    if (physics_.vent_open()) s |= vm::st_vent_open;
+    if (physics_.at_setpoint()) s |= vm::st_at_setpoint;
+    if (physics_.error_code() != 0) s |= vm::st_error;
+    in[vm::in_status] = s;
+    in[vm::in_error_code] = physics_.error_code();
+    map.tab_registers[vm::hr_pump_run] = physics_.pump_running() ? 1 : 0;
   }
 
   int check_write(const modbus_mapping_t& map, int address, int count, const std::uint16_t* values) override {
     const WriteRange w{address, count};
     const std::vector<std::uint16_t> hr = holding_after_write(map, w, values);
     VacuumPhysics probe = physics_;
-    if (w.touched_float(m::hr_setpoint))
-      if (const int e = probe.set_setpoint(get_float(hr.data(), m::hr_setpoint))) return e;
-    if (w.touched(m::hr_pump_run)) {
-      if (hr[m::hr_pump_run] > 1) return 3;
-      if (const int e = probe.run_pump(hr[m::hr_pump_run] == 1)) return e;
+    if (w.touched_float(vm::hr_setpoint))
+      if (const int e = probe.set_setpoint(get_float(hr.data(), vm::hr_setpoint))) return e;
+    if (w.touched(vm::hr_pump_run)) {
+      if (hr[vm::hr_pump_run] > 1) return 3;
+      if (const int e = probe.run_pump(hr[vm::hr_pump_run] == 1)) return e;
     }
-    if (w.touched(m::hr_vent) && hr[m::hr_vent] > 1) return 3;
-    if (w.touched(m::hr_clear_error) && hr[m::hr_clear_error] > 1) return 3;
+    if (w.touched(vm::hr_vent) && hr[vm::hr_vent] > 1) return 3;
+    if (w.touched(vm::hr_clear_error) && hr[vm::hr_clear_error] > 1) return 3;
     return 0;
   }
 
   void after_write(modbus_mapping_t& map, int address, int count) override {
     const std::uint16_t* hr = map.tab_registers;
     const WriteRange w{address, count};
-    if (w.touched_float(m::hr_setpoint)) physics_.set_setpoint(get_float(hr, m::hr_setpoint));
-    if (w.touched(m::hr_pump_run)) physics_.run_pump(hr[m::hr_pump_run] == 1);
-    if (w.touched(m::hr_vent)) physics_.set_vent(hr[m::hr_vent] == 1);
-    if (w.touched(m::hr_clear_error) && hr[m::hr_clear_error] == 1) {
+    if (w.touched_float(vm::hr_setpoint)) physics_.set_setpoint(get_float(hr, vm::hr_setpoint));
+    if (w.touched(vm::hr_pump_run)) physics_.run_pump(hr[vm::hr_pump_run] == 1);
+    if (w.touched(vm::hr_vent)) physics_.set_vent(hr[vm::hr_vent] == 1);
+    if (w.touched(vm::hr_clear_error) && hr[vm::hr_clear_error] == 1) {
       physics_.clear_error();
-      map.tab_registers[m::hr_clear_error] = 0;
+      map.tab_registers[vm::hr_clear_error] = 0;
     }
     refresh(map);
   }
@@ -128,11 +128,11 @@ struct VacuumTwin::Impl {
     tcgetattr(slave_fd, &t);
     cfmakeraw(&t);  // bytes pass untouched, as on a real serial line
     tcsetattr(slave_fd, TCSANOW, &t);
-    map = modbus_mapping_new(0, 0, m::holding_count, m::input_count);
+    map = modbus_mapping_new(0, 0, vm::holding_count, vm::input_count);
     if (!map) throw Error("vacuum twin: cannot allocate registers");
-    write_identity_block(map->tab_input_registers, m::map_version, "tocdlab",
+    write_identity_block(map->tab_input_registers, vm::map_version, "tocdlab",
                          "simulated pump controller VC-1", "SIMVAC01", "1.0.0");
-    put_float(map->tab_registers, m::hr_setpoint, physics.setpoint_kPa());
+    put_float(map->tab_registers, vm::hr_setpoint, physics.setpoint_kPa());
     make_context();
     registers.refresh(*map);
     thread = std::thread([this] { serve(); });

@@ -3,12 +3,12 @@
 // -> photon Monte Carlo.
 #include "tocd/sim/study/predictor.hpp"
 
-#include <chrono>
 #include <cmath>
 
 #include <fmt/format.h>
 
 #include "composite_spec.hpp"
+#include "elapsed.hpp"
 #include "material_json.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/core/log.hpp"
@@ -26,15 +26,9 @@
 namespace tocd::sim::study {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
 /// Throws tocd::Cancelled when the request's cancel flag is set; `where` says what is stopped.
 void check_cancel(const PredictionRequest& r, const char* where) {
   if (r.cancel && r.cancel->load()) throw tocd::Cancelled(fmt::format("prediction cancelled {}", where));
-}
-
-double since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
 struct FeEntry {
@@ -162,7 +156,7 @@ struct Predictor::Impl {
         throw tocd::Error(fmt::format("FE solve to {} mm in {} mm skin stopped: {}", r.displacement_mm,
                                       r.thickness_mm, res.stop_reason));
       FeEntry e{res.steps.back(), 0.0};
-      e.seconds = since(t0);
+      e.seconds = seconds_since(t0);
       return e;
     });
     hit = got.hit;
@@ -179,7 +173,7 @@ struct Predictor::Impl {
       const geometry::SkinProfile profile =
           fe_entry ? to_skin_profile(fe_entry->step, r.thickness_mm) : flat_skin_profile(r.thickness_mm);
       MeshEntry m{geometry::build_composite(composite_spec(r, profile), r.cancel.get()), fe_entry, 0.0};
-      m.seconds = since(t0);
+      m.seconds = seconds_since(t0);
       return m;
     });
     mesh_hit = got.hit;
@@ -199,7 +193,7 @@ struct Predictor::Impl {
       if (e.pin_top_faces == 0)
         throw tocd::Error("composite mesh: no boundary face carries the pin-top marker (the light source)");
       e.prepared = std::make_shared<const mc::PreparedMesh>(mc::prepare(e.mesh->composite.mesh));
-      e.seconds = since(t0);
+      e.seconds = seconds_since(t0);
       return e;
     });
     layout_hit = got.hit;
@@ -221,7 +215,7 @@ struct Predictor::Impl {
         p.prepared = std::make_shared<const mc::PreparedMesh>(
             mc::relabel(*layout->prepared, std::move(split.regions)));
       }
-      p.seconds = (layout_hit ? 0.0 : layout->seconds) + since(t0);
+      p.seconds = (layout_hit ? 0.0 : layout->seconds) + seconds_since(t0);
       return p;
     });
     mesh_hit = inner_mesh_hit;
@@ -249,11 +243,11 @@ Predictor::Staged Predictor::stage(const PredictionRequest& r) {
   // FE first (its time is reported apart), then mesh and preparation.
   std::shared_ptr<const FeEntry> fe_entry;
   if (needs_fe(r)) fe_entry = impl_->solve_fe(r, fe_hit);
-  out.fe_seconds = since(t_fe);
+  out.fe_seconds = seconds_since(t_fe);
   const auto t_mesh = Clock::now();
   bool ignored = true;
   st.prepared = impl_->prepare(r, ignored, mesh_hit);
-  out.mesh_seconds = since(t_mesh);
+  out.mesh_seconds = seconds_since(t_mesh);
   out.fe_cached = fe_hit;
   out.mesh_cached = mesh_hit;
 

@@ -1,23 +1,17 @@
 #include "tocd/sim/study/sensitivity.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <future>
 
 #include <fmt/format.h>
 
+#include "elapsed.hpp"
 #include "tocd/core/error.hpp"
 
 namespace tocd::sim::study {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 // Per-batch transmissions and the summed prediction of one request. Batches run `threads` at a
 // time; each is the exact tally of that batch, so the sum equals one predict() call.

@@ -3,12 +3,12 @@
 #include "tocd/sim/study/water_history.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 
 #include <fmt/format.h>
 
+#include "elapsed.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/sim/poro/solver.hpp"
 #include "water_transmission.hpp"
@@ -17,12 +17,7 @@ namespace tocd::sim::study {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-double since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 void mark_not_computed(WaterHistoryPoint& p, const std::string& why) {
   p.computed = false;
@@ -115,7 +110,7 @@ std::vector<WaterHistoryPoint> predict_water_history(const WaterHistoryRequest& 
       const double from = t;
       for (int k = 1; k <= n; ++k) {
         const double tk = k == n ? b : from + span * k / n;
-        if (r.fe_budget_s > 0 && since(fe_start) > r.fe_budget_s) {
+        if (r.fe_budget_s > 0 && seconds_since(fe_start) > r.fe_budget_s) {
           failure = fmt::format("biphasic FE: time budget of {} s spent at t = {:.3f} s (d = {:.4f} mm)",
                                 r.fe_budget_s, t, h.at(t));
           return;
@@ -141,7 +136,7 @@ std::vector<WaterHistoryPoint> predict_water_history(const WaterHistoryRequest& 
     const auto t0 = Clock::now();
     halvings = 0;
     if (failure.empty()) advance_to(when);
-    p.fe_seconds = since(t0);
+    p.fe_seconds = seconds_since(t0);
     p.fe_step_halvings = halvings;
     if (!failure.empty()) {
       mark_not_computed(p, failure);

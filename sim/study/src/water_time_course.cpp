@@ -1,10 +1,10 @@
 #include "tocd/sim/study/water_time_course.hpp"
 
-#include <chrono>
 #include <cmath>
 
 #include <fmt/format.h>
 
+#include "elapsed.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/sim/poro/solver.hpp"
 #include "water_transmission.hpp"
@@ -12,11 +12,6 @@
 namespace tocd::sim::study {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 detail::WaterPinGeometry geometry_of(const WaterTimeCourseRequest& r) {
   return {r.thickness_mm, r.outer_radius_mm, r.pin_radius_mm, r.fe_columns, r.fe_rows};
@@ -67,7 +62,7 @@ std::vector<WaterTimePoint> predict_water_time_course(const WaterTimeCourseReque
     auto t0 = Clock::now();
     if (t < r.ramp_s) advance(r.ramp_s, 10 * r.steps_per_interval);
     if (r.ramp_s + hold > t) advance(r.ramp_s + hold, r.steps_per_interval);
-    p.fe_seconds = since(t0);
+    p.fe_seconds = seconds_since(t0);
     p.pin_force_N = solver.state().pin_force_N;
     p.water_outflow_mm3 = solver.state().water_outflow_mm3;
     const auto w = detail::water_transmission(solver, g, r.displacement_mm, mc);

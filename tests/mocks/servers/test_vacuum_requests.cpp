@@ -15,7 +15,7 @@
 #include "tocd/devices/vacuum_registers.hpp"
 #include "tocd/mocks/vacuum_twin.hpp"
 
-namespace m = tocd::devices::vacuum_map;
+namespace vm = tocd::devices::vacuum_map;
 using Bytes = std::vector<std::uint8_t>;
 
 namespace {
@@ -76,18 +76,18 @@ TEST_F(VacuumRequests, UndocumentedFunctionCodesAnswerIllegalFunction) {
   const auto nan = tocd::devices::float_to_registers(std::numeric_limits<float>::quiet_NaN());
   const auto h = [](std::uint16_t v) { return static_cast<std::uint8_t>(v >> 8); };
   const auto l = [](std::uint16_t v) { return static_cast<std::uint8_t>(v & 0xFF); };
-  EXPECT_EQ(call({0x16, 0, m::hr_setpoint, 0, 0, h(nan[0]), l(nan[0])}, 2), (Bytes{0x96, 0x01}));
+  EXPECT_EQ(call({0x16, 0, vm::hr_setpoint, 0, 0, h(nan[0]), l(nan[0])}, 2), (Bytes{0x96, 0x01}));
   EXPECT_EQ(
-      call({0x17, 0, 0, 0, 1, 0, m::hr_setpoint, 0, 2, 4, h(nan[0]), l(nan[0]), h(nan[1]), l(nan[1])}, 2),
+      call({0x17, 0, 0, 0, 1, 0, vm::hr_setpoint, 0, 2, 4, h(nan[0]), l(nan[0]), h(nan[1]), l(nan[1])}, 2),
       (Bytes{0x97, 0x01}));
   EXPECT_EQ(call({0x05, 0, 0, 0xFF, 0}, 2), (Bytes{0x85, 0x01}));
   // The setpoint is still the default 5 kPa, and a single-register NaN is refused with exception 3.
-  const auto regs = call({0x03, 0, m::hr_setpoint, 0, 2}, 6);
+  const auto regs = call({0x03, 0, vm::hr_setpoint, 0, 2}, 6);
   ASSERT_TRUE(regs.has_value());
   EXPECT_FLOAT_EQ(
       tocd::devices::registers_to_float(static_cast<std::uint16_t>(((*regs)[2] << 8) | (*regs)[3]),
                                         static_cast<std::uint16_t>(((*regs)[4] << 8) | (*regs)[5])),
       5.0f);
-  EXPECT_EQ(call({0x06, 0, m::hr_setpoint, h(nan[0]), l(nan[0])}, 2), (Bytes{0x86, 0x03}));
+  EXPECT_EQ(call({0x06, 0, vm::hr_setpoint, h(nan[0]), l(nan[0])}, 2), (Bytes{0x86, 0x03}));
   EXPECT_NEAR(twin_->pressure_kPa(), 101.3, 0.5);  // nothing started
 }

@@ -1,6 +1,7 @@
 // Mesh convergence of the published case at 1.5 mm: pin force within 1 % and the compressed
 // region's outline within one element between the default mesh and a finer one (1.5x by
-// default, 2x in the physics-long build).
+// default, 2x in the physics-long build). The plane-stress section's own mesh convergence runs in
+// the physics-long build only; the default build checks that it reaches 1.5 mm.
 #include <algorithm>
 #include <cmath>
 
@@ -64,17 +65,28 @@ TEST(TOCD_FE_CONVERGENCE, ForceAndOutlineAtOnePointFiveMillimetres) {
 
 // The published model's own kinematics. Past ~1.45 mm the plane-stress section's tangent turns
 // indefinite (the Newton step climbs the energy); the solver then descends along the shifted
-// tangent to the stable branch. That branch is the mesh's answer and not an artefact of the
-// path only if a finer mesh finds the same force: within 1 %, the bound the axisymmetric case
-// meets above (the difference is the coarse mesh's discretisation error).
-TEST(TOCD_FE_CONVERGENCE, PlaneStressReachesOnePointFiveMillimetresWithAMeshConvergedForce) {
+// tangent to the stable branch, and the loading stays monotone.
+TEST(TOCD_FE_CONVERGENCE, PlaneStressReachesOnePointFiveMillimetres) {
+  fe::FeModel coarse = fe::FeModel::published_default();
+  coarse.kinematics = fe::Kinematics::plane_stress;
+  const fe::FeResult rc = fe::solve(coarse, {1.25, 1.5});
+  ASSERT_TRUE(rc.complete) << rc.stop_reason;
+  EXPECT_GT(rc.steps[1].force_N, rc.steps[0].force_N) << "monotone loading";
+}
+
+#ifdef TOCD_FE_LONG
+// That stable branch is the mesh's answer and not an artefact of the path only if a finer mesh
+// finds the same force: within 1 %, the bound the axisymmetric case meets above (the difference
+// is the coarse mesh's discretisation error). The finer plane-stress solve takes minutes, hence
+// the physics-long build only.
+TEST(TOCD_FE_CONVERGENCE, PlaneStressForceAtOnePointFiveMillimetresIsMeshConverged) {
   fe::FeModel coarse = fe::FeModel::published_default();
   coarse.kinematics = fe::Kinematics::plane_stress;
   fe::FeModel fine = coarse;
   fine.mesh_refinement = kFine;
-  const fe::FeResult rc = fe::solve(coarse, {1.25, 1.5}), rf = fe::solve(fine, {1.5});
+  const fe::FeResult rc = fe::solve(coarse, {1.5}), rf = fe::solve(fine, {1.5});
   ASSERT_TRUE(rc.complete) << rc.stop_reason;
   ASSERT_TRUE(rf.complete) << rf.stop_reason;
-  EXPECT_GT(rc.steps[1].force_N, rc.steps[0].force_N) << "monotone loading";
   EXPECT_NEAR(rc.steps.back().force_N, rf.steps.back().force_N, 0.01 * rf.steps.back().force_N);
 }
+#endif

@@ -45,10 +45,10 @@ double mandel_pressure(const std::vector<double>& roots, double prefactor, doubl
 }
 
 #ifdef TOCD_PORO_LONG
-constexpr int kCells = 12, kStepsPerDecade = 80;
+constexpr int kCells = 12, kMandelStepsPerDecade = 80;
 #define TOCD_PORO_MANDEL PoroMandelLong
 #else
-constexpr int kCells = 6, kStepsPerDecade = 40;
+constexpr int kCells = 6, kMandelStepsPerDecade = 40;
 #define TOCD_PORO_MANDEL PoroMandel
 #endif
 
@@ -76,7 +76,7 @@ TEST(TOCD_PORO_MANDEL, CentrePressureShowsTheMandelCryerRiseThenDecays) {
 
   double worst = 0, peak_model = 0, peak_series = 0;
   const double T0 = 1e-4, T1 = 2.0;
-  const int steps = static_cast<int>(kStepsPerDecade * std::log10(T1 / T0));
+  const int steps = static_cast<int>(kMandelStepsPerDecade * std::log10(T1 / T0));
   for (int n = 0; n <= steps; ++n) {
     const double T = T0 * std::pow(T1 / T0, double(n) / steps);
     solver.advance_to(T * a * a / c);
@@ -97,7 +97,7 @@ TEST(TOCD_PORO_MANDEL, CentrePressureShowsTheMandelCryerRiseThenDecays) {
   std::printf(
       "Mandel (%d x %d, %d steps/decade): worst centre-pressure error %.3g %% of p0; peak %.4f p0 "
       "(series %.4f p0)\n",
-      kCells, kCells / 2, kStepsPerDecade, 100 * worst, peak_model / p0, peak_series / p0);
+      kCells, kCells / 2, kMandelStepsPerDecade, 100 * worst, peak_model / p0, peak_series / p0);
 }
 
 }  // namespace
