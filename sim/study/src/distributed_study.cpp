@@ -5,13 +5,13 @@
 // simulation do not depend on which member ran which batches, so the table equals one
 // process's in every number but the timings.
 #include <algorithm>
-#include <chrono>
 #include <cstring>
 #include <exception>
 #include <thread>
 
 #include <fmt/format.h>
 
+#include "elapsed.hpp"
 #include "table_builder.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/core/log.hpp"
@@ -99,9 +99,9 @@ void work(Team& team, Predictor& predictor, const std::vector<StudyCase>& cases,
     if (answer.words[0] == kNoMoreWork) return;
     const Unit& u = units.at(static_cast<std::size_t>(answer.words[0]));
     const StudyRow row = TableBuilder::start_row(cases[u.case_index]);
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = Clock::now();
     const mc::Tallies t = predictor.run_batches(row.c.request, u.first_batch, u.last_batch);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double seconds = seconds_since(t0);
     std::vector<std::int64_t> message{kResult, answer.words[0], to_word(seconds), t.threads};
     message.insert(message.end(), t.words.begin(), t.words.end());
     team.send(0, kToDispatcher, message);

@@ -1,12 +1,12 @@
 #include "tocd/sim/study/study.hpp"
 
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <sstream>
 
 #include <fmt/format.h>
 
+#include "elapsed.hpp"
 #include "table_builder.hpp"
 #include "tocd/core/error.hpp"
 
@@ -198,7 +198,7 @@ void TableBuilder::add(StudyRow row, const std::function<void(const StudyRow&)>&
 }
 
 StudyTable TableBuilder::finish() {
-  table_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+  table_.seconds = seconds_since(t0_);
   table_.fluence_series = write_fluence_series(table_);
   return std::move(table_);
 }
@@ -208,9 +208,9 @@ StudyTable run_study(Predictor& predictor, const std::vector<StudyCase>& cases, 
   TableBuilder table(settings, ref_a, ref_b);
   for (const auto& c : cases) {
     StudyRow row = TableBuilder::start_row(c);
-    const auto s0 = std::chrono::steady_clock::now();
+    const auto s0 = Clock::now();
     row.p = predictor.predict(row.c.request);
-    row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
+    row.seconds = seconds_since(s0);
     table.add(std::move(row), progress);
   }
   return table.finish();

@@ -1,10 +1,10 @@
 #include "water_transmission.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <thread>
 
+#include "elapsed.hpp"
 #include "tocd/sim/geometry/composite.hpp"
 #include "tocd/sim/mc/run.hpp"
 #include "tocd/sim/study/predictor.hpp"
@@ -48,7 +48,6 @@ poro::PoroModel water_pin_model(const WaterPinGeometry& g, const material::Ogden
 
 WaterTransmission water_transmission(const poro::PoroSolver& solver, const WaterPinGeometry& g,
                                      double pin_displacement_mm, const WaterMcSettings& s) {
-  using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   const double phi0 = solver.model().permeability.solid_fraction;
   WaterTransmission out;
@@ -64,7 +63,7 @@ WaterTransmission water_transmission(const poro::PoroSolver& solver, const Water
     return 1 - phi0 / solver.volume_ratio_at(X, Y);
   });
   const mc::PreparedMesh prepared = mc::prepare(std::move(composite.mesh));
-  out.mesh_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  out.mesh_seconds = seconds_since(t0);
 
   mc::Source source;
   source.kind = mc::Source::Kind::marker;
