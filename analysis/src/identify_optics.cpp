@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "tocd/analysis/gls_fit.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/sim/material/stiffness_scale.hpp"
 #include "tocd/sim/study/predictor.hpp"
@@ -31,10 +32,12 @@ const char* kNames[kParameters] = {"cleared_mu_a_fraction", "cleared_mu_s_fracti
 const char* kDescriptions[kParameters] = {"fully cleared mu_a / native", "fully cleared mu_s / native",
                                           "fully cleared n / native",
                                           "compressive log strain of full clearing"};
+// The fit's start: the published most cleared state (the model note's simulation 11).
+const Eigen::Vector4d kStart(0.6, 0.6, 1.1, 0.5);
 // Central-difference steps of the common-random-number derivatives.
 constexpr double kStepN = 0.01, kStepStrain = 0.03;
 
-st::GradedOptics graded(const Eigen::Vector4d& theta) {
+st::GradedOptics graded(const Eigen::VectorXd& theta) {
   st::GradedOptics g;
   g.cleared = g.native;
   g.cleared.mu_a_per_mm = theta(0) * g.native.mu_a_per_mm;
@@ -52,16 +55,11 @@ int geometry_workers(std::size_t knots) {
   return static_cast<int>(std::clamp<std::size_t>(std::min(cores, knots), 1, 8));
 }
 
-struct Evaluation {
-  Eigen::VectorXd T, se;
-  Eigen::MatrixXd jacobian;  // knots x parameters
-};
-
 class Model {
  public:
   Model(const RunHistory& h, const std::vector<double>& knots, double scale, const OpticsOptions& o)
       : h_(h), knots_(knots), scale_(scale), o_(o), predictor_(geometry_workers(knots.size())) {
-    auto base = request(0.0, graded({0.6, 0.6, 1.1, 0.5}));
+    auto base = request(0.0, graded(kStart));
     base.baseline = true;
     const auto b = queue(base).get();
     if (!(b.T > 0)) throw Error("the glass-only baseline transmits nothing");
@@ -69,53 +67,55 @@ class Model {
     base_rel_se_ = b.T_stderr / b.T;
   }
 
-  // T and its standard error at every knot, without the derivatives (a trial step).
-  Evaluation transmissions(const Eigen::Vector4d& theta) {
+  // T and its standard error at every knot, with the Jacobian's columns asked for: mu_a and
+  // mu_s by perturbation Monte Carlo (on the run at theta itself), n and the strain by central
+  // differences with the same seed on both sides (common random numbers; two runs per knot
+  // each). Every request is queued at once, so the workers build the knots' geometry (FE and
+  // TetGen, one core each) side by side; the requests differ in optics only, and each knot's
+  // mesh is built once.
+  GlsEvaluation evaluate(const Eigen::VectorXd& theta, const std::vector<bool>& columns) {
     const auto nk = static_cast<Eigen::Index>(knots_.size());
-    Evaluation e{Eigen::VectorXd(nk), Eigen::VectorXd(nk), Eigen::MatrixXd()};
+    const bool any = std::find(columns.begin(), columns.end(), true) != columns.end();
+    GlsEvaluation e{Eigen::VectorXd(nk), Eigen::VectorXd(nk),
+                    any ? Eigen::MatrixXd::Zero(nk, kParameters) : Eigen::MatrixXd()};
     const st::GradedOptics g = graded(theta);
-    std::vector<std::future<st::Prediction>> at;
-    for (const double d : knots_) at.push_back(queue(request(d, g)));
-    for (Eigen::Index j = 0; j < nk; ++j) set_transmission(e, j, at[static_cast<std::size_t>(j)].get());
-    return e;
-  }
-
-  // With the Jacobian: mu_a and mu_s by perturbation Monte Carlo, n and the strain by central
-  // differences with the same seed on both sides (common random numbers). Every request is
-  // queued at once, so the workers build the knots' geometry (FE and TetGen, one core each)
-  // side by side; the requests differ in optics only, and each knot's mesh is built once.
-  Evaluation evaluate(const Eigen::Vector4d& theta) {
-    const auto nk = static_cast<Eigen::Index>(knots_.size());
-    Evaluation e{Eigen::VectorXd(nk), Eigen::VectorXd(nk), Eigen::MatrixXd::Zero(nk, kParameters)};
-    const st::GradedOptics g = graded(theta);
+    const bool perturbation = columns[0] || columns[1];
     struct Queued {
       std::future<st::Prediction> at, n_up, n_down, strain_up, strain_down;
     };
     std::vector<Queued> queued;
     for (const double d : knots_) {
       auto r = request(d, g);
-      r.transmittance_derivatives = true;
+      r.transmittance_derivatives = perturbation;
       Queued q;
       q.at = queue(r);
-      q.n_up = queue(request(d, graded(shifted(theta, 2, kStepN))));
-      q.n_down = queue(request(d, graded(shifted(theta, 2, -kStepN))));
-      q.strain_up = queue(request(d, graded(shifted(theta, 3, kStepStrain))));
-      q.strain_down = queue(request(d, graded(shifted(theta, 3, -kStepStrain))));
+      if (columns[2]) {
+        q.n_up = queue(request(d, graded(shifted(theta, 2, kStepN))));
+        q.n_down = queue(request(d, graded(shifted(theta, 2, -kStepN))));
+      }
+      if (columns[3]) {
+        q.strain_up = queue(request(d, graded(shifted(theta, 3, kStepStrain))));
+        q.strain_down = queue(request(d, graded(shifted(theta, 3, -kStepStrain))));
+      }
       queued.push_back(std::move(q));
     }
     for (Eigen::Index j = 0; j < nk; ++j) {
       Queued& q = queued[static_cast<std::size_t>(j)];
       const auto p = q.at.get();
-      set_transmission(e, j, p);
-      for (int k = 1; k <= g.bins; ++k) {
-        const auto it = p.dT_dmu.find(st::kGradedRegionBase + k);
-        if (it == p.dT_dmu.end()) continue;
-        const double share = static_cast<double>(k) / g.bins;
-        e.jacobian(j, 0) += it->second.dT_dmu_a.mean * share * g.native.mu_a_per_mm / base_T_;
-        e.jacobian(j, 1) += it->second.dT_dmu_s.mean * share * g.native.mu_s_per_mm / base_T_;
+      e.value(j) = p.T / base_T_;
+      e.se(j) = e.value(j) * std::hypot(p.T_stderr / std::max(p.T, 1e-300), base_rel_se_);
+      if (perturbation) {
+        for (int k = 1; k <= g.bins; ++k) {
+          const auto it = p.dT_dmu.find(st::kGradedRegionBase + k);
+          if (it == p.dT_dmu.end()) continue;
+          const double share = static_cast<double>(k) / g.bins;
+          e.jacobian(j, 0) += it->second.dT_dmu_a.mean * share * g.native.mu_a_per_mm / base_T_;
+          e.jacobian(j, 1) += it->second.dT_dmu_s.mean * share * g.native.mu_s_per_mm / base_T_;
+        }
       }
-      e.jacobian(j, 2) = (q.n_up.get().T - q.n_down.get().T) / (2 * kStepN * base_T_);
-      e.jacobian(j, 3) = (q.strain_up.get().T - q.strain_down.get().T) / (2 * kStepStrain * base_T_);
+      if (columns[2]) e.jacobian(j, 2) = (q.n_up.get().T - q.n_down.get().T) / (2 * kStepN * base_T_);
+      if (columns[3])
+        e.jacobian(j, 3) = (q.strain_up.get().T - q.strain_down.get().T) / (2 * kStepStrain * base_T_);
     }
     return e;
   }
@@ -144,12 +144,7 @@ class Model {
     return predictor_.submit(r);
   }
 
-  void set_transmission(Evaluation& e, Eigen::Index j, const st::Prediction& p) {
-    e.T(j) = p.T / base_T_;
-    e.se(j) = e.T(j) * std::hypot(p.T_stderr / std::max(p.T, 1e-300), base_rel_se_);
-  }
-
-  static Eigen::Vector4d shifted(Eigen::Vector4d theta, int k, double step) {
+  static Eigen::VectorXd shifted(Eigen::VectorXd theta, int k, double step) {
     theta(k) += step;
     return theta;
   }
@@ -173,97 +168,29 @@ double t_quantile_975(int dof) {
   return z + (z * z * z + z) / (4.0 * dof);
 }
 
-Eigen::Vector4d clamp_to_ranges(Eigen::Vector4d theta) {
-  for (int k = 0; k < kParameters; ++k)
-    theta(k) = std::clamp(theta(k), kRanges[k].lo + 1e-3 * (kRanges[k].hi - kRanges[k].lo),
-                          kRanges[k].hi - 1e-3 * (kRanges[k].hi - kRanges[k].lo));
-  return theta;
+std::vector<PlausibleRange> ranges() {
+  return {std::begin(kRanges), std::end(kRanges)};
 }
 
-// The covariance of the data's differences from an evaluation: the T_eq's covariance plus the
-// Monte Carlo variances of the model.
-Eigen::MatrixXd covariance_of(const ClearingIdentification& clearing, const Evaluation& ev) {
-  Eigen::MatrixXd c = clearing.T_eq_covariance;
-  c.diagonal() += ev.se.cwiseProduct(ev.se);
-  return c;
-}
-
-// The generalised least-squares weights of an evaluation: the inverse of that covariance.
-Eigen::MatrixXd weights_of(const ClearingIdentification& clearing, const Evaluation& ev) {
-  return covariance_of(clearing, ev).inverse();
-}
-
-struct Fitted {
-  Eigen::Vector4d theta;
-  Evaluation e;
-  int iterations = 0;
-  bool converged = false;
-};
-
-// Levenberg-Marquardt from the published most cleared state (the model note's simulation 11).
-// A trial step is kept only when it lowers the cost; with the same seed at every evaluation
-// (common random numbers) the cost is a smooth function of the parameters, so the comparison
-// is not lost in the Monte Carlo noise. Plain Gauss-Newton steps overshot on the demo run
-// (mu_a and mu_s trade off, correlation -0.99) and wandered off to chi^2 of 170 for 3 dof.
-Fitted levenberg_marquardt(Model& model, const ClearingIdentification& clearing,
-                           const OpticsOptions& options) {
-  auto say = [&](const std::string& line) {
-    if (options.progress) options.progress(line);
-  };
-  const auto nk = static_cast<Eigen::Index>(clearing.T_eq.size());
-  const Eigen::VectorXd y = Eigen::Map<const Eigen::VectorXd>(clearing.T_eq.data(), nk);
-  auto chi2_of = [&](const Evaluation& ev) {
-    const Eigen::VectorXd r = y - ev.T;
-    return r.dot(covariance_of(clearing, ev).ldlt().solve(r));
-  };
-  Fitted f{Eigen::Vector4d(0.6, 0.6, 1.1, 0.5), {}, 0, false};
-  Eigen::Vector4d& theta = f.theta;
-  f.e = model.evaluate(theta);
-  double cost = chi2_of(f.e);
-  say(fmt::format(
-      "optics: start at mu_a x{:.3f}, mu_s x{:.3f}, n x{:.4f}, full clearing at log strain {:.3f}: "
-      "chi2 {:.3g}",
-      theta(0), theta(1), theta(2), theta(3), cost));
-  double lambda = 1e-2;
-  int iteration = 0;
-  for (iteration = 1; iteration <= options.max_iterations; ++iteration) {
-    const Eigen::MatrixXd w = weights_of(clearing, f.e);
-    const Eigen::MatrixXd info = f.e.jacobian.transpose() * w * f.e.jacobian;
-    const Eigen::VectorXd g = f.e.jacobian.transpose() * w * (y - f.e.T);
-    Eigen::MatrixXd damped = info;
-    damped.diagonal() += lambda * info.diagonal().cwiseMax(1e-30);
-    const Eigen::Vector4d next = clamp_to_ranges(theta + Eigen::Vector4d(damped.ldlt().solve(g)));
-    const Evaluation trial = model.transmissions(next);
-    const double trial_cost = chi2_of(trial);
-    say(fmt::format(
-        "optics trial {}: mu_a x{:.3f}, mu_s x{:.3f}, n x{:.4f}, full clearing at log strain {:.3f}: "
-        "chi2 {:.3g} ({})",
-        iteration, next(0), next(1), next(2), next(3), trial_cost, trial_cost < cost ? "kept" : "not kept"));
-    if (!(trial_cost < cost)) {
-      lambda *= 10;
-      continue;
-    }
-    // Converged when no parameter moved by more than a fifth of its standard error.
-    const Eigen::VectorXd se = info.inverse().diagonal().cwiseMax(0).cwiseSqrt();
-    const bool small = ((next - theta).cwiseAbs().array() <= 0.2 * se.array()).all();
-    theta = next;
-    f.e = model.evaluate(theta);
-    cost = chi2_of(f.e);
-    lambda = std::max(lambda / 10, 1e-6);
-    if (small) {
-      f.converged = true;
-      break;
-    }
-  }
-  f.iterations = std::min(iteration, options.max_iterations);
-  return f;
+// The fit's settings: its trials, and each one printed as the progress.
+GlsFitOptions fit_options(const OpticsOptions& options) {
+  GlsFitOptions o;
+  o.max_iterations = options.max_iterations;
+  if (options.progress)
+    o.on_trial = [progress = options.progress](int i, const Eigen::VectorXd& t, double chi2, bool kept) {
+      progress(fmt::format(
+          "optics trial {}: mu_a x{:.3f}, mu_s x{:.3f}, n x{:.4f}, full clearing at log strain {:.3f}: "
+          "chi2 {:.3g} ({})",
+          i, t(0), t(1), t(2), t(3), chi2, kept ? "kept" : "not kept"));
+    };
+  return o;
 }
 
 // Each held step's measured T beside the model's window mean, its Monte Carlo error and the
 // band of the parameters' covariance (multiplier z).
 std::vector<OpticsIdentification::Step> steps_of(const RunHistory& history,
                                                  const ClearingIdentification& clearing,
-                                                 const OpticsIdentification& out, const Evaluation& e,
+                                                 const OpticsIdentification& out, const GlsEvaluation& e,
                                                  const Eigen::MatrixXd& covariance, double z) {
   const auto nk = static_cast<Eigen::Index>(clearing.T_eq.size());
   const auto predicted = window_means(history, clearing, out.T_model);
@@ -309,13 +236,25 @@ OpticsIdentification identify_optics(const RunHistory& history, const ClearingId
     throw Error(fmt::format("run {}: {} held displacements for {} optical parameters", history.run_id, nk,
                             kParameters));
   Model model(history, clearing.displacement_mm, stiffness_scale, options);
-  const Fitted fit = levenberg_marquardt(model, clearing, options);
-  const Evaluation& e = fit.e;
+  const GlsModel evaluate = [&model](const Eigen::VectorXd& theta, const std::vector<bool>& columns) {
+    return model.evaluate(theta, columns);
+  };
+  GlsProblem problem;
+  problem.data = Eigen::Map<const Eigen::VectorXd>(clearing.T_eq.data(), nk);
+  problem.data_covariance = clearing.T_eq_covariance;
+  problem.ranges = ranges();
+  const std::vector<bool> all(kParameters, true);
+  if (options.progress)
+    options.progress(fmt::format(
+        "optics: start at mu_a x{:.3f}, mu_s x{:.3f}, n x{:.4f}, full clearing at log strain {:.3f}",
+        kStart(0), kStart(1), kStart(2), kStart(3)));
+  const GlsFit fit = fit_gls(evaluate, problem, kStart, all, fit_options(options));
+  const GlsEvaluation& e = fit.evaluation;
 
-  const Eigen::MatrixXd w = weights_of(clearing, e);
-  const Eigen::VectorXd r = Eigen::Map<const Eigen::VectorXd>(clearing.T_eq.data(), nk) - e.T;
+  const Eigen::MatrixXd w = gls_covariance(problem, e).inverse();
+  const Eigen::VectorXd r = problem.data - e.value;
   OpticsIdentification out;
-  out.chi2 = r.dot(w * r);
+  out.chi2 = fit.chi2;
   out.dof = static_cast<int>(nk) - kParameters;
   const double birge = out.dof > 0 ? std::max(1.0, out.chi2 / out.dof) : 1.0;
   const double z = out.dof > 0 ? t_quantile_975(out.dof) : 1.959963984540054;
@@ -335,7 +274,7 @@ OpticsIdentification identify_optics(const RunHistory& history, const ClearingId
 
   out.displacement_mm = clearing.displacement_mm;
   out.T_eq = clearing.T_eq;
-  out.T_model.assign(e.T.data(), e.T.data() + e.T.size());
+  out.T_model.assign(e.value.data(), e.value.data() + e.value.size());
   out.T_model_se.assign(e.se.data(), e.se.data() + e.se.size());
   out.steps = steps_of(history, clearing, out, e, covariance, z);
   out.monte_carlo_runs = model.runs;

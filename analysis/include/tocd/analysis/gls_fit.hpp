@@ -1,0 +1,68 @@
+#pragma once
+
+// Levenberg-Marquardt on a generalised least-squares cost whose model is costly and noisy (a
+// Monte Carlo run per observation): the optics identification's fit (identify_optics.hpp),
+// written against a model it calls, so that it is checked on closed forms and a smoother model
+// of the same observations can take the Monte Carlo's place.
+//
+// The cost is (y - m(theta))^T (C + S(theta))^-1 (y - m(theta)): C the data's covariance, S the
+// model's own variances at theta. A trial step is kept only when it lowers the cost. With a
+// Monte Carlo model that comparison is itself noisy: the same seed keeps a photon's path only
+// until the changed optics change it, and on the demo run the cost scattered by about 3 between
+// neighbouring trials (docs/identify.md), so the minimum found is a lucky draw's.
+
+#include <functional>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "tocd/analysis/identified.hpp"
+
+namespace tocd::analysis {
+
+/// A model's values at the observations and their standard errors (the model's own noise),
+/// with the Jacobian's columns that were asked for (the others zero; the matrix empty when
+/// none was asked).
+struct GlsEvaluation {
+  Eigen::VectorXd value, se;
+  Eigen::MatrixXd jacobian;  ///< observations x parameters
+};
+
+/// Evaluates the model at theta; columns[k] says whether column k of the Jacobian is needed
+/// (a column costs model runs of its own when it comes from finite differences).
+using GlsModel = std::function<GlsEvaluation(const Eigen::VectorXd& theta, const std::vector<bool>& columns)>;
+
+struct GlsProblem {
+  Eigen::VectorXd data;
+  Eigen::MatrixXd data_covariance;
+  std::vector<PlausibleRange> ranges;  ///< every trial is kept inside these
+};
+
+struct GlsFitOptions {
+  /// Trials (a trial costs one model evaluation without the Jacobian; a kept one an
+  /// evaluation with the free parameters' columns).
+  int max_iterations = 8;
+  /// Called after each trial: its number, theta, cost and whether it was kept.
+  std::function<void(int, const Eigen::VectorXd&, double, bool)> on_trial;
+};
+
+struct GlsFit {
+  Eigen::VectorXd theta;
+  GlsEvaluation evaluation;  ///< at theta, with the free parameters' columns
+  double chi2 = 0;
+  int iterations = 0;
+  /// No free parameter moved by more than a fifth of its standard error in the last kept step.
+  bool converged = false;
+};
+
+/// The cost of an evaluation.
+double gls_chi2(const GlsProblem& problem, const GlsEvaluation& e);
+
+/// The cost's covariance at an evaluation: C + S.
+Eigen::MatrixXd gls_covariance(const GlsProblem& problem, const GlsEvaluation& e);
+
+/// Minimises the cost over the parameters marked free, the others held at their start value.
+GlsFit fit_gls(const GlsModel& model, const GlsProblem& problem, const Eigen::VectorXd& start,
+               const std::vector<bool>& free, const GlsFitOptions& options = {});
+
+}  // namespace tocd::analysis

@@ -1,0 +1,138 @@
+// The generalised least-squares fit (gls_fit.hpp), on a model whose minimum is known
+// independently: m_j = b exp(-k x_j) + c is linear in (b, c) at each k, so the cost's minimum
+// over (b, c) at every k is an exact weighted linear least squares, computed here on its own
+// (normal equations of the 2x2 problem), and the minimum over k a golden-section search of it.
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "tocd/analysis/gls_fit.hpp"
+#include "tocd/core/error.hpp"
+
+namespace a = tocd::analysis;
+
+namespace {
+
+const std::vector<double> kX = {0.0, 0.5, 1.0, 1.5, 2.0, 3.0, 4.0};
+// A fixed noise draw (unit normal deviates, scaled by sigma below) so the test is exact.
+const std::vector<double> kNoise = {0.31, -1.12, 0.54, 0.87, -0.42, -0.95, 0.66};
+constexpr double kSigma = 0.02;
+
+Eigen::VectorXd model_at(double b, double k, double c) {
+  Eigen::VectorXd m(static_cast<Eigen::Index>(kX.size()));
+  for (std::size_t j = 0; j < kX.size(); ++j) m(static_cast<Eigen::Index>(j)) = b * std::exp(-k * kX[j]) + c;
+  return m;
+}
+
+a::GlsProblem problem() {
+  a::GlsProblem p;
+  p.data = model_at(1.0, 0.7, 0.1);
+  for (std::size_t j = 0; j < kX.size(); ++j) p.data(static_cast<Eigen::Index>(j)) += kSigma * kNoise[j];
+  // Half the variance is the data's (correlated between neighbours), half the model's own.
+  const auto n = static_cast<Eigen::Index>(kX.size());
+  p.data_covariance = Eigen::MatrixXd::Zero(n, n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    p.data_covariance(j, j) = 0.5 * kSigma * kSigma;
+    if (j + 1 < n) p.data_covariance(j, j + 1) = p.data_covariance(j + 1, j) = 0.1 * kSigma * kSigma;
+  }
+  p.ranges = {{0.01, 10.0, false}, {0.01, 5.0, false}, {-1.0, 1.0, false}};  // b, k, c
+  return p;
+}
+
+// theta = (b, k, c); the model's own error is a constant sqrt(0.5) sigma.
+a::GlsEvaluation evaluate(const Eigen::VectorXd& t, const std::vector<bool>& columns) {
+  const auto n = static_cast<Eigen::Index>(kX.size());
+  a::GlsEvaluation e{model_at(t(0), t(1), t(2)), Eigen::VectorXd::Constant(n, std::sqrt(0.5) * kSigma), {}};
+  bool any = false;
+  for (bool c : columns) any = any || c;
+  if (!any) return e;
+  e.jacobian = Eigen::MatrixXd::Zero(n, 3);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const double x = kX[static_cast<std::size_t>(j)], ex = std::exp(-t(1) * x);
+    if (columns[0]) e.jacobian(j, 0) = ex;
+    if (columns[1]) e.jacobian(j, 1) = -t(0) * x * ex;
+    if (columns[2]) e.jacobian(j, 2) = 1.0;
+  }
+  return e;
+}
+
+// The exact profile of the cost in k: the weighted linear least squares in (b, c), solved from
+// its normal equations.
+double exact_profile(const a::GlsProblem& p, double k) {
+  const auto n = static_cast<Eigen::Index>(kX.size());
+  Eigen::MatrixXd cov = p.data_covariance;
+  cov.diagonal().array() += 0.5 * kSigma * kSigma;
+  const Eigen::MatrixXd w = cov.inverse();
+  Eigen::MatrixXd basis(n, 2);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    basis(j, 0) = std::exp(-k * kX[static_cast<std::size_t>(j)]);
+    basis(j, 1) = 1.0;
+  }
+  const Eigen::Vector2d bc = (basis.transpose() * w * basis).inverse() * (basis.transpose() * w * p.data);
+  const Eigen::VectorXd r = p.data - basis * bc;
+  return r.dot(w * r);
+}
+
+}  // namespace
+
+TEST(GlsFit, ReachesTheExactMinimumOfTheProfiledCost) {
+  const a::GlsProblem p = problem();
+  const a::GlsFit fit = a::fit_gls(evaluate, p, Eigen::Vector3d(0.6, 1.5, 0.0), {true, true, true}, {40, {}});
+  // The exact minimum over k by golden section on the exact profile.
+  double lo = 0.2, hi = 2.0;
+  const double g = (std::sqrt(5.0) - 1) / 2;
+  for (int i = 0; i < 200; ++i) {
+    const double m1 = hi - g * (hi - lo), m2 = lo + g * (hi - lo);
+    (exact_profile(p, m1) < exact_profile(p, m2) ? hi : lo) =
+        (exact_profile(p, m1) < exact_profile(p, m2) ? m2 : m1);
+  }
+  const double k_min = 0.5 * (lo + hi);
+  EXPECT_TRUE(fit.converged);
+  EXPECT_NEAR(fit.chi2, exact_profile(p, k_min), 1e-6);
+  // A converged fit moved by at most a fifth of a standard error last; the standard error of k
+  // here is about 0.1, so 0.02 bounds the distance to the minimum.
+  EXPECT_NEAR(fit.theta(1), k_min, 0.02);
+}
+
+TEST(GlsFit, AHeldParameterStaysAndTheOthersReachTheProfile) {
+  // With k held the fit is the exact profile's inner minimum, the linear least squares in
+  // (b, c) at that k, at values of k on either side of the minimum.
+  const a::GlsProblem p = problem();
+  for (const double k : {0.45, 0.7, 1.1}) {
+    const a::GlsFit fit =
+        a::fit_gls(evaluate, p, Eigen::Vector3d(0.6, k, 0.0), {true, false, true}, {40, {}});
+    EXPECT_EQ(fit.theta(1), k);
+    EXPECT_TRUE(fit.converged) << "k " << k;
+    EXPECT_NEAR(fit.chi2, exact_profile(p, k), 1e-6 * (1 + exact_profile(p, k))) << "k " << k;
+  }
+}
+
+TEST(GlsFit, TrialsStayInsideThePlausibleRanges) {
+  // A start far outside: the fit starts a thousandth of the range inside, and no trial leaves it.
+  const a::GlsProblem p = problem();
+  a::GlsFitOptions o{40, {}};
+  bool inside = true;
+  o.on_trial = [&](int, const Eigen::VectorXd& t, double, bool) {
+    for (Eigen::Index i = 0; i < t.size(); ++i)
+      inside = inside && t(i) > p.ranges[static_cast<std::size_t>(i)].lo &&
+               t(i) < p.ranges[static_cast<std::size_t>(i)].hi;
+  };
+  const a::GlsFit fit = a::fit_gls(evaluate, p, Eigen::Vector3d(50.0, -3.0, 0.0), {true, true, true}, o);
+  EXPECT_TRUE(inside);
+  // and from there it still finds the minimum a start near it finds.
+  const a::GlsFit near =
+      a::fit_gls(evaluate, p, Eigen::Vector3d(0.6, 1.5, 0.0), {true, true, true}, {40, {}});
+  EXPECT_NEAR(fit.chi2, near.chi2, 1e-6);
+}
+
+TEST(GlsFit, AMismatchedProblemIsAnErrorNamingTheCounts) {
+  const a::GlsProblem p = problem();
+  try {
+    a::fit_gls(evaluate, p, Eigen::Vector3d(0.6, 0.7, 0.0), {true, true}, {});
+    FAIL() << "no error";
+  } catch (const tocd::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("3 parameters with 2 free flags"), std::string::npos) << e.what();
+  }
+}
