@@ -11,13 +11,14 @@
 namespace mat = tocd::sim::material;
 
 namespace {
-// Pin-compression style data: compressive strain magnitudes and stresses, 0.5 % noise.
+// Pin-compression style data: compressive strain magnitudes to 0.6 and stresses with relative
+// Gaussian noise, at `points` evenly spaced strains.
 void synthetic(const mat::OgdenParameters& p, std::vector<double>& e, std::vector<double>& s, double noise,
-               unsigned seed) {
+               unsigned seed, int points = 60) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> n(0.0, noise);
-  for (int k = 1; k <= 60; ++k) {
-    const double strain = 0.6 * k / 60.0;
+  for (int k = 1; k <= points; ++k) {
+    const double strain = 0.6 * k / points;
     e.push_back(strain);
     s.push_back(-mat::ogden_uniaxial_nominal_stress(p, 1 - strain) * (1 + n(rng)));
   }
@@ -148,23 +149,11 @@ TEST(MaterialFit, ExactDataOfThePublishedLawConvergeWellInsideTheIterationLimit)
 // every point (fit.cpp: kScreenPoints). The expectations are the published law's own values, as
 // in the tests above: 20,000 exact points reproduce it to rounding, 20,000 points with 0.5 %
 // noise to 1 % (the 60-point test's bound; with 330 times the points the fit is closer still).
-namespace {
-void long_record(const mat::OgdenParameters& p, std::vector<double>& e, std::vector<double>& s,
-                 double noise) {
-  std::mt19937 rng(3);
-  std::normal_distribution<double> n(0.0, noise);
-  for (int k = 1; k <= 20000; ++k) {
-    const double strain = 0.6 * k / 20000.0;
-    e.push_back(strain);
-    s.push_back(-mat::ogden_uniaxial_nominal_stress(p, 1 - strain) * (1 + n(rng)));
-  }
-}
-}  // namespace
 
 TEST(MaterialFit, TwentyThousandExactPointsGiveThePublishedLaw) {
   const auto truth = mat::OgdenParameters::published_skin();
   std::vector<double> e, s;
-  long_record(truth, e, s, 0.0);
+  synthetic(truth, e, s, 0.0, 3, 20000);
   const mat::FitResult r = mat::fit_uniaxial(e, s, mat::FitModel::ogden3);
   EXPECT_TRUE(r.converged) << "after " << r.iterations << " iterations";
   EXPECT_GT(r.r_squared, 1 - 1e-10);
@@ -178,7 +167,7 @@ TEST(MaterialFit, TwentyThousandExactPointsGiveThePublishedLaw) {
 TEST(MaterialFit, TwentyThousandNoisyPointsRecoverThePublishedCurve) {
   const auto truth = mat::OgdenParameters::published_skin();
   std::vector<double> e, s;
-  long_record(truth, e, s, 0.005);
+  synthetic(truth, e, s, 0.005, 3, 20000);
   const mat::FitResult r = mat::fit_uniaxial(e, s, mat::FitModel::ogden3);
   EXPECT_GT(r.r_squared, 0.999);
   for (std::size_t k = 0; k < e.size(); k += 997) {
