@@ -105,6 +105,13 @@ double model_stress(FitModel m, const VectorXd& p, double lambda) {
   }
 }
 
+// The exponents of an Ogden parameter vector (mu_1, alpha_1, mu_2, alpha_2, ...).
+VectorXd exponents_of(const VectorXd& p, int terms) {
+  VectorXd alpha(terms);
+  for (int i = 0; i < terms; ++i) alpha[i] = p[2 * i + 1];
+  return alpha;
+}
+
 // Smallest difference between two exponents of one Ogden fit (Problem::admissible).
 constexpr double kMinExponentGap = 0.1;
 
@@ -119,10 +126,7 @@ struct Problem {
   }
   bool admissible(const VectorXd& p) const {
     if (!p.allFinite()) return false;
-    const int N = ogden_terms(model);
-    VectorXd alpha(N);
-    for (int i = 0; i < N; ++i) alpha[i] = p[2 * i + 1];
-    return exponents_admissible(alpha);
+    return exponents_admissible(exponents_of(p, ogden_terms(model)));
   }
   static bool exponents_admissible(const VectorXd& alpha) {
     for (Eigen::Index i = 0; i < alpha.size(); ++i) {
@@ -241,13 +245,11 @@ LmOutcome levenberg_marquardt(const P& pr, VectorXd p, int max_iterations) {
 // time, was two thirds of a fit's time), and the residual is the basis times the mu it gave:
 // the stress is not computed a second time.
 struct ProjectedOgden {
-  const Problem& full;
   Eigen::ArrayXd log_lambda, weight;
   VectorXd weighted_target;
 
   explicit ProjectedOgden(const Problem& p)
-      : full(p),
-        log_lambda(
+      : log_lambda(
             Eigen::Map<const Eigen::ArrayXd>(p.lambda.data(), static_cast<Eigen::Index>(p.lambda.size()))
                 .log()),
         weight(Eigen::Map<const Eigen::ArrayXd>(p.weight.data(), static_cast<Eigen::Index>(p.weight.size()))),
@@ -420,11 +422,7 @@ LmOutcome best_fit(const Problem& pr, const FitOptions& options) {
     }
   } else {
     std::vector<VectorXd> alphas;
-    for (const VectorXd& p0 : starts) {
-      VectorXd alpha(N);
-      for (int j = 0; j < N; ++j) alpha[j] = p0[2 * j + 1];
-      alphas.push_back(alpha);
-    }
+    for (const VectorXd& p0 : starts) alphas.push_back(exponents_of(p0, N));
     if (pr.lambda.size() > kScreenPoints) {
       // Screen on the subsample; polish its best few (by cost, then by start order) on all.
       const std::size_t stride = (pr.lambda.size() + kScreenPoints - 1) / kScreenPoints;
@@ -437,9 +435,7 @@ LmOutcome best_fit(const Problem& pr, const FitOptions& options) {
       for (std::size_t i = 0; i < order.size() && polish.size() < static_cast<std::size_t>(kPolished); ++i) {
         const LmOutcome& o = screened[order[i]];
         if (!std::isfinite(o.cost)) break;
-        VectorXd alpha(N);
-        for (int j = 0; j < N; ++j) alpha[j] = o.p[2 * j + 1];
-        polish.push_back(alpha);
+        polish.push_back(exponents_of(o.p, N));
       }
       alphas = polish;
     }
