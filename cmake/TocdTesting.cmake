@@ -8,7 +8,8 @@ set(TOCD_SKIP_TEST_LABELS "" CACHE STRING "Test labels whose executables are not
 
 # tocd_add_gtest(<target> LABEL <unit|integration|physics|physics-long> SOURCES <files...>
 #                [LIBS <targets...>] [TIMEOUT <seconds>])
-# One test executable carries one label; ctest discovers its cases at test time.
+# One test executable carries one label; ctest discovers its cases at test time. Every test
+# links tests/support (tocd/test/...: temporary directories, files, the CLI runner).
 # The default run (`ctest --preset dev`) runs every label except physics-long.
 function(tocd_add_gtest target)
   cmake_parse_arguments(ARG "" "LABEL;TIMEOUT" "SOURCES;LIBS" ${ARGN})
@@ -23,8 +24,8 @@ function(tocd_add_gtest target)
     set(exclude EXCLUDE_FROM_ALL)
   endif()
   add_executable(${target} ${exclude} ${ARG_SOURCES})
-  target_link_libraries(${target} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gmock GTest::gtest_main
-                                          tocd_warnings)
+  target_link_libraries(${target} PRIVATE ${ARG_LIBS} tocd_test_support GTest::gtest GTest::gmock
+                                          GTest::gtest_main tocd_warnings)
   if(exclude)
     return()
   endif()
