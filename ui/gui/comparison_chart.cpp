@@ -13,59 +13,26 @@
 
 namespace tocd::gui {
 
-namespace {
-
-// An error bar: a stem from lo to hi with caps of half width `cap` (points 2 and 3 are the stem).
-QList<QPointF> bar_points(double x, double lo, double hi, double cap) {
-  return {{x - cap, lo}, {x + cap, lo}, {x, lo}, {x, hi}, {x - cap, hi}, {x + cap, hi}};
-}
-
-std::vector<ComparisonChart::ErrorBar> bars_of(const std::vector<QLineSeries*>& pool) {
-  std::vector<ComparisonChart::ErrorBar> out;
-  for (const QLineSeries* s : pool) {
-    const auto pts = s->points();
-    out.push_back({pts[2].x(), pts[2].y(), pts[3].y()});
-  }
-  return out;
-}
-
-}  // namespace
-
-ComparisonChart::ComparisonChart(QWidget* parent) : QChartView(parent) {
-  auto* chart = new QChart();
-  chart->setTitle(tr("Transmission: measured vs simulated"));
-  measured_series_ = new QScatterSeries(chart);
+ComparisonChart::ComparisonChart(QWidget* parent)
+    : ErrorBarChart(tr("nominal strain"), tr("transmission T"), parent) {
+  chart()->setTitle(tr("Transmission: measured vs simulated"));
+  measured_series_ = new QScatterSeries(chart());
   measured_series_->setName(tr("measured"));
   measured_series_->setMarkerShape(QScatterSeries::MarkerShapeCircle);
   measured_series_->setMarkerSize(9);
-  predicted_series_ = new QScatterSeries(chart);
+  predicted_series_ = new QScatterSeries(chart());
   predicted_series_->setName(tr("simulated ± 1 s.e."));
   predicted_series_->setMarkerShape(QScatterSeries::MarkerShapeRectangle);
   predicted_series_->setMarkerSize(8);
-  fitted_series_ = new QScatterSeries(chart);
+  fitted_series_ = new QScatterSeries(chart());
   fitted_series_->setName(tr("fitted law ± 1 s.e., model band"));
   fitted_series_->setMarkerShape(QScatterSeries::MarkerShapeTriangle);
   fitted_series_->setMarkerSize(9);
-  chart->addSeries(measured_series_);
-  chart->addSeries(predicted_series_);
-  chart->addSeries(fitted_series_);
-  x_axis_ = new QValueAxis(chart);
-  y_axis_ = new QValueAxis(chart);
-  x_axis_->setTitleText(tr("nominal strain"));
-  y_axis_->setTitleText(tr("transmission T"));
-  x_axis_->setRange(0, 1);
-  y_axis_->setRange(0, 1);
-  chart->addAxis(x_axis_, Qt::AlignBottom);
-  chart->addAxis(y_axis_, Qt::AlignLeft);
-  for (QScatterSeries* s : {measured_series_, predicted_series_, fitted_series_}) {
-    s->attachAxis(x_axis_);
-    s->attachAxis(y_axis_);
-  }
+  for (QScatterSeries* s : {measured_series_, predicted_series_, fitted_series_}) add_series(s);
+  x_axis()->setRange(0, 1);
+  y_axis()->setRange(0, 1);
   // Shown only once a fit has been drawn.
-  for (QLegendMarker* marker : chart->legend()->markers(fitted_series_)) marker->setVisible(false);
-  setChart(chart);
-  setRenderHint(QPainter::Antialiasing);
-  setMinimumSize(300, 220);
+  for (QLegendMarker* marker : chart()->legend()->markers(fitted_series_)) marker->setVisible(false);
 }
 
 void ComparisonChart::set_measured(int step, double nominal_strain, double T) {
@@ -98,22 +65,11 @@ void ComparisonChart::clear() {
 }
 
 void ComparisonChart::size_bars(std::vector<QLineSeries*>& pool, std::size_t n, const QPen& pen) {
-  QChart* c = chart();
   while (pool.size() > n) {
-    QLineSeries* s = pool.back();
+    remove_bar(pool.back());
     pool.pop_back();
-    c->removeSeries(s);
-    delete s;
   }
-  while (pool.size() < n) {
-    auto* s = new QLineSeries(c);
-    s->setPen(pen);
-    c->addSeries(s);
-    s->attachAxis(x_axis_);
-    s->attachAxis(y_axis_);
-    for (QLegendMarker* marker : c->legend()->markers(s)) marker->setVisible(false);
-    pool.push_back(s);
-  }
+  while (pool.size() < n) pool.push_back(add_bar(pen));
 }
 
 void ComparisonChart::rebuild() {
@@ -144,8 +100,8 @@ void ComparisonChart::rebuild() {
       }
       const auto [a, b] = padded_range(x_lo, x_hi, {0.0, 1.0}, 0.08);
       const auto [lo, hi] = padded_range(y_lo, y_hi, {0.0, 1.0}, 0.1);
-      x_axis_->setRange(a, b);
-      y_axis_->setRange(lo, hi);
+      x_axis()->setRange(a, b);
+      y_axis()->setRange(lo, hi);
       x_lo = a;
       x_hi = b;
     }
@@ -174,18 +130,15 @@ void ComparisonChart::rebuild() {
 }
 
 std::vector<QPointF> ComparisonChart::measured_points() const {
-  const auto pts = measured_series_->points();
-  return {pts.begin(), pts.end()};
+  return points_of(measured_series_);
 }
 
 std::vector<QPointF> ComparisonChart::predicted_points() const {
-  const auto pts = predicted_series_->points();
-  return {pts.begin(), pts.end()};
+  return points_of(predicted_series_);
 }
 
 std::vector<QPointF> ComparisonChart::fitted_points() const {
-  const auto pts = fitted_series_->points();
-  return {pts.begin(), pts.end()};
+  return points_of(fitted_series_);
 }
 
 std::vector<ComparisonChart::ErrorBar> ComparisonChart::error_bars() const {

@@ -1,13 +1,13 @@
 #pragma once
 
-#include <QChartView>
 #include <map>
 #include <vector>
+
+#include "error_bar_chart.hpp"
 
 class QLineSeries;
 class QPen;
 class QScatterSeries;
-class QValueAxis;
 
 namespace tocd::gui {
 
@@ -17,7 +17,7 @@ namespace tocd::gui {
 /// Optionally the same steps predicted with the sample's fitted law, with two bands: its
 /// Monte Carlo error (a bar) and the model band over the fit's confidence laws (a wide,
 /// pale bar behind it).
-class ComparisonChart : public QChartView {
+class ComparisonChart : public ErrorBarChart {
   Q_OBJECT
 
  public:
@@ -30,9 +30,6 @@ class ComparisonChart : public QChartView {
   void clear_fitted();
   void clear();
 
-  struct ErrorBar {
-    double x, lo, hi;
-  };
   std::vector<QPointF> measured_points() const;
   std::vector<QPointF> predicted_points() const;
   std::vector<ErrorBar> error_bars() const;
@@ -58,8 +55,6 @@ class ComparisonChart : public QChartView {
   QScatterSeries* predicted_series_ = nullptr;
   QScatterSeries* fitted_series_ = nullptr;
   std::vector<QLineSeries*> bar_series_, fitted_bar_series_, band_series_;
-  QValueAxis* x_axis_ = nullptr;
-  QValueAxis* y_axis_ = nullptr;
 };
 
 }  // namespace tocd::gui
