@@ -1,7 +1,6 @@
 #include "browser_view.hpp"
 
 #include <QComboBox>
-#include <QGridLayout>
 #include <QHBoxLayout>
 #include <QHeaderView>
 #include <QLabel>
@@ -17,6 +16,7 @@
 #include "live_chart.hpp"
 #include "step_table_model.hpp"
 #include "tocd/db/location.hpp"
+#include "widget_grid.hpp"
 
 namespace tocd::gui {
 
@@ -40,6 +40,19 @@ BrowserView::BrowserView(QWidget* parent)
       hold_step_(new QComboBox(this)),
       water_label_(new QLabel(this)),
       hold_chart_(new HoldCourseChart(this)) {
+  set_up_job_buttons();
+  set_up_tables();
+  QWidget* panes = make_panes();
+  QHBoxLayout* jobs = make_job_row();
+  auto* col = new QVBoxLayout(this);
+  col->addWidget(title_);
+  col->addLayout(jobs);
+  col->addWidget(panes, 1);
+  connect_job_buttons();
+  connect_pickers();
+}
+
+void BrowserView::set_up_job_buttons() {
   water_button_->setToolTip(
       tr("Drive the biphasic FE along the run's recorded pin displacement once and predict T(t) at points "
          "in every hold with water-content optics, next to the measured power (tocdlab compare --optics "
@@ -58,6 +71,9 @@ BrowserView::BrowserView(QWidget* parent)
          "with its Monte Carlo error and the band of the optical parameters' 95 % intervals (tocdlab compare "
          "--material identified)"));
   identify_button_->setEnabled(false);
+}
+
+void BrowserView::set_up_tables() {
   runs_->setColumnCount(7);
   runs_->setHorizontalHeaderLabels({tr("Run"), tr("Name"), tr("Status"), tr("Started (UTC)"), tr("Steps"),
                                     tr("Predictions"), tr("Operator")});
@@ -69,15 +85,10 @@ BrowserView::BrowserView(QWidget* parent)
   table_->setModel(steps_);
   table_->verticalHeader()->hide();
   table_->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
+}
 
-  auto* charts = new QWidget(this);
-  auto* grid = new QGridLayout(charts);
-  grid->setContentsMargins(0, 0, 0, 0);
-  grid->addWidget(comparison_, 0, 0);
-  grid->addWidget(load_chart_, 0, 1);
-  grid->addWidget(power_chart_, 0, 2);
-  grid->addWidget(hold_chart_, 0, 3);
-
+QWidget* BrowserView::make_panes() {
+  QWidget* charts = widget_grid(this, {{comparison_, load_chart_, power_chart_, hold_chart_}});
   auto* split = new QSplitter(Qt::Vertical, this);
   split->addWidget(runs_);
   split->addWidget(charts);
@@ -85,30 +96,33 @@ BrowserView::BrowserView(QWidget* parent)
   bottom->addWidget(table_);
   bottom->addWidget(events_);
   split->addWidget(bottom);
+  return split;
+}
 
-  auto* fit_row = new QHBoxLayout();
-  fit_row->addWidget(fit_button_);
-  fit_row->addWidget(identify_button_);
-  fit_row->addWidget(fit_label_, 1);
-  fit_row->addWidget(water_button_);
-  fit_row->addWidget(hold_step_);
-  fit_row->addWidget(water_label_, 1);
+QHBoxLayout* BrowserView::make_job_row() {
+  auto* row = new QHBoxLayout();
+  row->addWidget(fit_button_);
+  row->addWidget(identify_button_);
+  row->addWidget(fit_label_, 1);
+  row->addWidget(water_button_);
+  row->addWidget(hold_step_);
+  row->addWidget(water_label_, 1);
+  return row;
+}
 
-  auto* col = new QVBoxLayout(this);
-  col->addWidget(title_);
-  col->addLayout(fit_row);
-  col->addWidget(split, 1);
+void BrowserView::connect_job_buttons() {
+  // Each asks for its job on the selected run; with none selected a click does nothing.
+  const auto request = [this](QPushButton* button, void (BrowserView::*requested)(qint64)) {
+    connect(button, &QPushButton::clicked, this, [this, requested] {
+      if (const auto id = selected_run(); id != 0) emit(this->*requested)(id);
+    });
+  };
+  request(fit_button_, &BrowserView::fit_requested);
+  request(identify_button_, &BrowserView::identify_requested);
+  request(water_button_, &BrowserView::water_requested);
+}
 
-  connect(fit_button_, &QPushButton::clicked, this, [this] {
-    if (const auto id = selected_run(); id != 0) emit fit_requested(id);
-  });
-
-  connect(identify_button_, &QPushButton::clicked, this, [this] {
-    if (const auto id = selected_run(); id != 0) emit identify_requested(id);
-  });
-  connect(water_button_, &QPushButton::clicked, this, [this] {
-    if (const auto id = selected_run(); id != 0) emit water_requested(id);
-  });
+void BrowserView::connect_pickers() {
   connect(hold_step_, &QComboBox::currentIndexChanged, this, [this](int i) {
     if (i >= 0) show_hold(hold_step_->itemData(i).toInt());
   });
@@ -123,6 +137,13 @@ BrowserView::BrowserView(QWidget* parent)
   connect(runs_, &QTableWidget::itemSelectionChanged, this, [this] {
     if (const auto id = selected_run(); id != 0) emit run_selected(id);
   });
+}
+
+void BrowserView::enable_job_buttons() {
+  const bool can_start = shown_run_ != 0 && !fitting_;
+  fit_button_->setEnabled(can_start);
+  identify_button_->setEnabled(can_start);
+  water_button_->setEnabled(can_start);
 }
 
 QString BrowserView::title_text() const {
@@ -175,9 +196,7 @@ void BrowserView::show_run(const RunDetails& d) {
     fitted_.reset();
     fit_label_->clear();
   }
-  fit_button_->setEnabled(shown_run_ != 0 && !fitting_);
-  identify_button_->setEnabled(shown_run_ != 0 && !fitting_);
-  water_button_->setEnabled(shown_run_ != 0 && !fitting_);
+  enable_job_buttons();
   if (water_ && water_->run_id == shown_run_) {
     show_water_course(*water_);
   } else {
@@ -222,9 +241,7 @@ void BrowserView::show_fit_progress(const QString& line) {
 
 void BrowserView::set_fitting(bool fitting) {
   fitting_ = fitting;
-  fit_button_->setEnabled(!fitting && shown_run_ != 0);
-  identify_button_->setEnabled(!fitting && shown_run_ != 0);
-  water_button_->setEnabled(!fitting && shown_run_ != 0);
+  enable_job_buttons();
 }
 
 void BrowserView::show_water_course(const WaterCourseView& v) {

@@ -6,6 +6,7 @@
 #include "backend_db.hpp"
 
 class QComboBox;
+class QHBoxLayout;
 class QLabel;
 class QPushButton;
 class QTableView;
@@ -68,6 +69,19 @@ class BrowserView : public QWidget {
   void water_requested(qint64 run_id);
 
  private:
+  // The constructor's parts, in the order it calls them.
+  void set_up_job_buttons();
+  void set_up_tables();
+  /// The run list over the charts over the step table beside the events.
+  QWidget* make_panes();
+  /// The long jobs' buttons, each with the line it reports on.
+  QHBoxLayout* make_job_row();
+  void connect_job_buttons();
+  /// A run picked in the list, a step in the table or the hold picker.
+  void connect_pickers();
+  /// The jobs' buttons are on while a run is on show and no job runs.
+  void enable_job_buttons();
+
   QLabel* title_;
   QTableWidget* runs_;
   StepTableModel* steps_;

@@ -15,6 +15,7 @@
 #include "interlock_indicator.hpp"
 #include "live_chart.hpp"
 #include "step_table_model.hpp"
+#include "widget_grid.hpp"
 
 namespace tocd::gui {
 
@@ -53,13 +54,7 @@ RunView::RunView(QWidget* parent)
   status->setColumnStretch(0, 2);
   status->setColumnStretch(1, 1);
 
-  auto* charts = new QWidget(this);
-  auto* grid = new QGridLayout(charts);
-  grid->setContentsMargins(0, 0, 0, 0);
-  grid->addWidget(load_chart_, 0, 0);
-  grid->addWidget(comparison_, 0, 1);
-  grid->addWidget(power_chart_, 1, 0);
-  grid->addWidget(pressure_chart_, 1, 1);
+  QWidget* charts = widget_grid(this, {{load_chart_, comparison_}, {power_chart_, pressure_chart_}});
 
   auto* bottom = new QSplitter(Qt::Horizontal, this);
   bottom->addWidget(table_);
