@@ -25,6 +25,19 @@ std::vector<QPointF> measured_over(const db::Reader& reader, std::int64_t run_id
   return out;
 }
 
+// The hold chart's view of one step of the course: its window, the measured line and the points.
+WaterStepView water_step_view(const analysis::WaterCourseStep& s, std::vector<QPointF> measured) {
+  std::vector<WaterPointView> points;
+  for (const auto& p : s.points)
+    points.push_back({p.t_s, p.measured.T, p.computed, p.T, p.T_se, QString::fromStdString(p.failure)});
+  return {.step = s.index,
+          .displacement_mm = s.target_displacement_mm,
+          .window_from_s = s.window_from_s,
+          .window_to_s = s.window_to_s,
+          .measured = std::move(measured),
+          .points = std::move(points)};
+}
+
 }  // namespace
 
 void RunBrowserBackend::water_course(std::int64_t run_id, std::uint64_t photons) {
@@ -56,17 +69,10 @@ void RunBrowserBackend::water_course(std::int64_t run_id, std::uint64_t photons)
                         .arg(photons)
                         .arg(c.seconds, 0, 'f', 1);
         for (const auto& s : c.steps) {
-          WaterStepView w;
-          w.step = s.index;
-          w.displacement_mm = s.target_displacement_mm;
-          w.window_from_s = s.window_from_s;
-          w.window_to_s = s.window_to_s;
+          std::vector<QPointF> measured;
           for (const auto& rec : steps)
-            if (rec.index == s.index) w.measured = measured_over(reader, run_id, rec, c.history.t0_ns);
-          for (const auto& p : s.points)
-            w.points.push_back(
-                {p.t_s, p.measured.T, p.computed, p.T, p.T_se, QString::fromStdString(p.failure)});
-          v.steps.push_back(std::move(w));
+            if (rec.index == s.index) measured = measured_over(reader, run_id, rec, c.history.t0_ns);
+          v.steps.push_back(water_step_view(s, std::move(measured)));
         }
         return v;
       },

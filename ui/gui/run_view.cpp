@@ -21,6 +21,21 @@ namespace tocd::gui {
 
 using acquisition::EngineState;
 
+namespace {
+
+// The step table's row of a step just recorded.
+StepRow measured_row(const RecordedStepView& s) {
+  return {.step = s.index,
+          .displacement_mm = s.displacement_mm,
+          .nominal_strain = s.nominal_strain,
+          .load_N = s.load_N,
+          .measured_T = s.measured_T,
+          .predicted_T = std::nullopt,  // the prediction comes on its own, later
+          .predicted_T_stderr = std::nullopt};
+}
+
+}  // namespace
+
 RunView::RunView(QWidget* parent)
     : QWidget(parent),
       protocol_label_(new QLabel(tr("No protocol loaded"), this)),
@@ -117,13 +132,7 @@ void RunView::add_readings(const std::vector<LiveReading>& readings) {
 }
 
 void RunView::add_step(const RecordedStepView& s) {
-  StepRow row;
-  row.step = s.index;
-  row.displacement_mm = s.displacement_mm;
-  row.nominal_strain = s.nominal_strain;
-  row.load_N = s.load_N;
-  row.measured_T = s.measured_T;
-  steps_->upsert_measured(row);
+  steps_->upsert_measured(measured_row(s));
   strain_of_step_[s.index] = s.nominal_strain;
   comparison_->set_measured(s.index, s.nominal_strain, s.measured_T);
   if (const StepRow* r = steps_->find(s.index); r && r->predicted_T) {
