@@ -41,62 +41,10 @@ SimulationView::SimulationView(QWidget* parent)
       right_sim_(new QComboBox(this)),
       right_slice_(new QComboBox(this)),
       maps_(new FluenceMapPair(this)) {
-  photons_->setRange(1000, 2000000000);
-  photons_->setSingleStep(10000);
-  photons_->setValue(100000);
-  photons_->setGroupSeparatorShown(true);
-  displacement_->setRange(0.0, 10.0);
-  displacement_->setDecimals(3);
-  displacement_->setSingleStep(0.1);
-  displacement_->setValue(1.5);
-  displacement_->setSuffix(QStringLiteral(" mm"));
-  thickness_->setRange(0.1, 20.0);
-  thickness_->setDecimals(3);
-  thickness_->setValue(2.5);
-  thickness_->setSuffix(QStringLiteral(" mm"));
-  optics_->addItems({QStringLiteral("native"), QStringLiteral("cleared"), QStringLiteral("graded"),
-                     QStringLiteral("a80"), QStringLiteral("s80"), QStringLiteral("n105")});
-
-  auto* form = new QFormLayout();
-  form->addRow(tr("Photons per simulation"), photons_);
-  form->addRow(tr("Pin displacement"), displacement_);
-  form->addRow(tr("Skin thickness"), thickness_);
-  form->addRow(tr("Compressed-region optics"), optics_);
-  auto* buttons = new QHBoxLayout();
-  buttons->addWidget(predict_button_);
-  buttons->addWidget(study_button_);
-  auto* controls = new QVBoxLayout();
-  controls->addLayout(form);
-  controls->addLayout(buttons);
-  controls->addWidget(progress_);
-  controls->addWidget(status_);
-  if (!StudyBackend::available()) {
-    status_->setText(tr("This build has no simulator: predictions are not available."));
-    predict_button_->setEnabled(false);
-    study_button_->setEnabled(false);
-  }
-
-  table_->setColumnCount(9);
-  table_->setHorizontalHeaderLabels({tr("Sim"), tr("Optics"), tr("d (mm)"), tr("h (mm)"), tr("Strain"),
-                                     tr("T"), tr("± s.e."), tr("T / glass"), tr("Time (s)")});
-  table_->verticalHeader()->hide();
-  table_->setEditTriggers(QAbstractItemView::NoEditTriggers);
-  table_->horizontalHeader()->setStretchLastSection(true);
-
-  for (QComboBox* c : {left_slice_, right_slice_}) {
-    c->addItem(tr("pin-tip height"), QStringLiteral("horizontal"));
-    c->addItem(tr("pin axis"), QStringLiteral("vertical"));
-  }
-  right_slice_->setCurrentIndex(1);
-  auto* pick = new QHBoxLayout();
-  pick->addWidget(new QLabel(tr("Left:"), this));
-  pick->addWidget(left_sim_);
-  pick->addWidget(left_slice_);
-  pick->addSpacing(20);
-  pick->addWidget(new QLabel(tr("Right:"), this));
-  pick->addWidget(right_sim_);
-  pick->addWidget(right_slice_);
-  pick->addStretch(1);
+  set_up_inputs();
+  QVBoxLayout* controls = make_controls();
+  set_up_table();
+  QHBoxLayout* pick = make_map_pickers();
 
   auto* top = new QHBoxLayout();
   top->addLayout(controls);
@@ -118,6 +66,73 @@ SimulationView::SimulationView(QWidget* parent)
   for (QComboBox* c : {left_sim_, left_slice_, right_sim_, right_slice_}) {
     connect(c, &QComboBox::currentIndexChanged, this, &SimulationView::update_maps);
   }
+}
+
+void SimulationView::set_up_inputs() {
+  photons_->setRange(1000, 2000000000);
+  photons_->setSingleStep(10000);
+  photons_->setValue(100000);
+  photons_->setGroupSeparatorShown(true);
+  displacement_->setRange(0.0, 10.0);
+  displacement_->setDecimals(3);
+  displacement_->setSingleStep(0.1);
+  displacement_->setValue(1.5);
+  displacement_->setSuffix(QStringLiteral(" mm"));
+  thickness_->setRange(0.1, 20.0);
+  thickness_->setDecimals(3);
+  thickness_->setValue(2.5);
+  thickness_->setSuffix(QStringLiteral(" mm"));
+  optics_->addItems({QStringLiteral("native"), QStringLiteral("cleared"), QStringLiteral("graded"),
+                     QStringLiteral("a80"), QStringLiteral("s80"), QStringLiteral("n105")});
+}
+
+QVBoxLayout* SimulationView::make_controls() {
+  auto* form = new QFormLayout();
+  form->addRow(tr("Photons per simulation"), photons_);
+  form->addRow(tr("Pin displacement"), displacement_);
+  form->addRow(tr("Skin thickness"), thickness_);
+  form->addRow(tr("Compressed-region optics"), optics_);
+  auto* buttons = new QHBoxLayout();
+  buttons->addWidget(predict_button_);
+  buttons->addWidget(study_button_);
+  auto* controls = new QVBoxLayout();
+  controls->addLayout(form);
+  controls->addLayout(buttons);
+  controls->addWidget(progress_);
+  controls->addWidget(status_);
+  if (!StudyBackend::available()) {
+    status_->setText(tr("This build has no simulator: predictions are not available."));
+    predict_button_->setEnabled(false);
+    study_button_->setEnabled(false);
+  }
+  return controls;
+}
+
+void SimulationView::set_up_table() {
+  table_->setColumnCount(9);
+  table_->setHorizontalHeaderLabels({tr("Sim"), tr("Optics"), tr("d (mm)"), tr("h (mm)"), tr("Strain"),
+                                     tr("T"), tr("± s.e."), tr("T / glass"), tr("Time (s)")});
+  table_->verticalHeader()->hide();
+  table_->setEditTriggers(QAbstractItemView::NoEditTriggers);
+  table_->horizontalHeader()->setStretchLastSection(true);
+}
+
+QHBoxLayout* SimulationView::make_map_pickers() {
+  for (QComboBox* c : {left_slice_, right_slice_}) {
+    c->addItem(tr("pin-tip height"), QStringLiteral("horizontal"));
+    c->addItem(tr("pin axis"), QStringLiteral("vertical"));
+  }
+  right_slice_->setCurrentIndex(1);
+  auto* pick = new QHBoxLayout();
+  pick->addWidget(new QLabel(tr("Left:"), this));
+  pick->addWidget(left_sim_);
+  pick->addWidget(left_slice_);
+  pick->addSpacing(20);
+  pick->addWidget(new QLabel(tr("Right:"), this));
+  pick->addWidget(right_sim_);
+  pick->addWidget(right_slice_);
+  pick->addStretch(1);
+  return pick;
 }
 
 qulonglong SimulationView::photons() const {

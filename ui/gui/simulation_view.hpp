@@ -9,11 +9,13 @@
 
 class QComboBox;
 class QDoubleSpinBox;
+class QHBoxLayout;
 class QLabel;
 class QProgressBar;
 class QPushButton;
 class QSpinBox;
 class QTableWidget;
+class QVBoxLayout;
 
 namespace tocd::gui {
 
@@ -51,6 +53,14 @@ class SimulationView : public QWidget {
   void study_requested();
 
  private:
+  // The constructor's parts, in the order it calls them.
+  /// Ranges, steps and defaults of the prediction's inputs.
+  void set_up_inputs();
+  /// The inputs' form, the two buttons, the progress bar and the status line.
+  QVBoxLayout* make_controls();
+  void set_up_table();
+  /// Which simulation and which slice each of the two maps shows.
+  QHBoxLayout* make_map_pickers();
   void update_maps();
 
   QSpinBox* photons_;
