@@ -34,14 +34,21 @@ int index_of(const std::vector<double>& axis, double x) {
   return static_cast<int>(it - axis.begin());
 }
 
-}  // namespace
+// The columns read, in this order: the three coordinates, then the value.
+const std::array<QString, 4>& slice_columns() {
+  static const std::array<QString, 4> names{QStringLiteral("x_mm"), QStringLiteral("y_mm"),
+                                            QStringLiteral("z_mm"), QStringLiteral("fluence")};
+  return names;
+}
 
-ScalarGrid parse_slice_csv(const QString& text, const QString& source_name) {
-  const QStringList lines = text.split(QLatin1Char('\n'));
-  if (lines.isEmpty() || lines[0].trimmed().isEmpty()) fail(source_name, 1, QStringLiteral("empty file"));
-  const QStringList head = lines[0].trimmed().split(QLatin1Char(','));
-  const std::array<QString, 4> wanted{QStringLiteral("x_mm"), QStringLiteral("y_mm"), QStringLiteral("z_mm"),
-                                      QStringLiteral("fluence")};
+struct SlicePoint {
+  std::array<double, 3> xyz;
+  double value;
+};
+
+// Where each of slice_columns() stands in the header (line 1).
+std::array<qsizetype, 4> slice_header(const QStringList& head, const QString& source_name) {
+  const auto& wanted = slice_columns();
   std::array<qsizetype, 4> col{};
   for (std::size_t k = 0; k < wanted.size(); ++k) {
     col[k] = head.indexOf(wanted[k]);
@@ -51,11 +58,36 @@ ScalarGrid parse_slice_csv(const QString& text, const QString& source_name) {
           QStringLiteral("header has no column \"%1\" (expected x_mm,y_mm,z_mm,...,fluence)").arg(wanted[k]));
     }
   }
-  struct Point {
-    std::array<double, 3> xyz;
-    double value;
-  };
-  std::vector<Point> points;
+  return col;
+}
+
+// One data line (line `line_no` of the file); an empty fluence is a point outside the mesh.
+SlicePoint slice_point(const QStringList& cells, const std::array<qsizetype, 4>& col,
+                       const QString& source_name, int line_no) {
+  SlicePoint p{};
+  for (int k = 0; k < 3; ++k) {
+    bool ok = false;
+    p.xyz[static_cast<std::size_t>(k)] = cells[col[static_cast<std::size_t>(k)]].toDouble(&ok);
+    if (!ok)
+      fail(source_name, line_no,
+           QStringLiteral("%1 is not a number").arg(slice_columns()[static_cast<std::size_t>(k)]));
+  }
+  const QString f = cells[col[3]].trimmed();
+  if (f.isEmpty()) {
+    p.value = std::numeric_limits<double>::quiet_NaN();  // outside the mesh
+  } else {
+    bool ok = false;
+    p.value = f.toDouble(&ok);
+    if (!ok) fail(source_name, line_no, QStringLiteral("fluence \"%1\" is not a number").arg(f));
+  }
+  return p;
+}
+
+// Every data line after the header; blank lines are skipped.
+std::vector<SlicePoint> slice_points(const QStringList& lines, const QString& source_name) {
+  const QStringList head = lines[0].trimmed().split(QLatin1Char(','));
+  const std::array<qsizetype, 4> col = slice_header(head, source_name);
+  std::vector<SlicePoint> points;
   for (int i = 1; i < lines.size(); ++i) {
     const QString line = lines[i].trimmed();
     if (line.isEmpty()) continue;
@@ -64,33 +96,31 @@ ScalarGrid parse_slice_csv(const QString& text, const QString& source_name) {
       fail(source_name, i + 1,
            QStringLiteral("%1 fields, the header has %2").arg(cells.size()).arg(head.size()));
     }
-    Point p{};
-    for (int k = 0; k < 3; ++k) {
-      bool ok = false;
-      p.xyz[static_cast<std::size_t>(k)] = cells[col[static_cast<std::size_t>(k)]].toDouble(&ok);
-      if (!ok)
-        fail(source_name, i + 1,
-             QStringLiteral("%1 is not a number").arg(wanted[static_cast<std::size_t>(k)]));
-    }
-    const QString f = cells[col[3]].trimmed();
-    if (f.isEmpty()) {
-      p.value = std::numeric_limits<double>::quiet_NaN();  // outside the mesh
-    } else {
-      bool ok = false;
-      p.value = f.toDouble(&ok);
-      if (!ok) fail(source_name, i + 1, QStringLiteral("fluence \"%1\" is not a number").arg(f));
-    }
-    points.push_back(p);
+    points.push_back(slice_point(cells, col, source_name, i + 1));
   }
   if (points.empty()) fail(source_name, 2, QStringLiteral("no data rows"));
+  return points;
+}
 
+// The distinct values of each coordinate.
+std::array<std::vector<double>, 3> slice_axes(const std::vector<SlicePoint>& points) {
   std::array<std::vector<double>, 3> axes;
   for (int k = 0; k < 3; ++k) {
     std::vector<double> v;
     v.reserve(points.size());
-    for (const Point& p : points) v.push_back(p.xyz[static_cast<std::size_t>(k)]);
+    for (const SlicePoint& p : points) v.push_back(p.xyz[static_cast<std::size_t>(k)]);
     axes[static_cast<std::size_t>(k)] = distinct(std::move(v));
   }
+  return axes;
+}
+
+}  // namespace
+
+ScalarGrid parse_slice_csv(const QString& text, const QString& source_name) {
+  const QStringList lines = text.split(QLatin1Char('\n'));
+  if (lines.isEmpty() || lines[0].trimmed().isEmpty()) fail(source_name, 1, QStringLiteral("empty file"));
+  const std::vector<SlicePoint> points = slice_points(lines, source_name);
+  const std::array<std::vector<double>, 3> axes = slice_axes(points);
   // The picture's horizontal axis is the first varying coordinate, its vertical axis the
   // last (x-y at pin-tip height, x-z through the axis).
   std::vector<int> varying;
@@ -120,7 +150,7 @@ ScalarGrid parse_slice_csv(const QString& text, const QString& source_name) {
   g.y_min = v.front() - dv / 2;
   g.y_max = v.back() + dv / 2;
   g.values.assign(points.size(), std::numeric_limits<double>::quiet_NaN());
-  for (const Point& p : points) {
+  for (const SlicePoint& p : points) {
     const int ix = index_of(u, p.xyz[static_cast<std::size_t>(varying[0])]);
     const int iy = index_of(v, p.xyz[static_cast<std::size_t>(varying[1])]);
     g.values[static_cast<std::size_t>(iy) * g.nx + ix] = p.value;
