@@ -29,6 +29,19 @@ bool StudyBackend::available() {
   return TOCD_GUI_WITH_STUDY != 0;
 }
 
+void StudyBackend::run_job(std::function<double()> work, const QString& action) {
+  tasks_->run<double>(
+      std::move(work),
+      [this](double& seconds) {
+        busy_ = false;
+        emit finished(seconds);
+      },
+      [this, action](const QString& message) {
+        busy_ = false;
+        emit failed(action, message);
+      });
+}
+
 #if TOCD_GUI_WITH_STUDY
 
 namespace {
@@ -66,7 +79,7 @@ void StudyBackend::run_study(qulonglong photons, const QString& fluence_dir) {
   const auto cases = study::paper_cases(settings);
   const int total = static_cast<int>(cases.size());
   emit started(total);
-  tasks_->run<double>(
+  run_job(
       [this, settings, cases, total] {
         study::Predictor predictor(1);
         int done = 0;
@@ -79,14 +92,7 @@ void StudyBackend::run_study(qulonglong photons, const QString& fluence_dir) {
         });
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       },
-      [this](double& seconds) {
-        busy_ = false;
-        emit finished(seconds);
-      },
-      [this](const QString& message) {
-        busy_ = false;
-        emit failed(tr("Running the study"), message);
-      });
+      tr("Running the study"));
 }
 
 void StudyBackend::predict(double displacement_mm, double thickness_mm, const QString& optics,
@@ -95,7 +101,7 @@ void StudyBackend::predict(double displacement_mm, double thickness_mm, const QS
   busy_ = true;
   emit started(1);
   if (!fluence_dir.isEmpty()) QDir().mkpath(fluence_dir);
-  tasks_->run<double>(
+  run_job(
       [this, displacement_mm, thickness_mm, optics, photons, fluence_dir] {
         study::StudyCase c;
         c.id = 1;
@@ -119,14 +125,7 @@ void StudyBackend::predict(double displacement_mm, double thickness_mm, const QS
             this, [this, row] { emit row_done(row, 1, 1); }, Qt::QueuedConnection);
         return r.seconds;
       },
-      [this](double& seconds) {
-        busy_ = false;
-        emit finished(seconds);
-      },
-      [this](const QString& message) {
-        busy_ = false;
-        emit failed(tr("Predicting"), message);
-      });
+      tr("Predicting"));
 }
 
 std::shared_ptr<acquisition::StepPredictor> make_simulator_step_predictor(qulonglong photons) {

@@ -3,6 +3,7 @@
 #include <QObject>
 #include <QString>
 #include <atomic>
+#include <functional>
 #include <memory>
 
 #include "tocd/acquisition/step_predictor.hpp"
@@ -51,6 +52,10 @@ class StudyBackend : public QObject {
   void failed(const QString& action, const QString& message);
 
  private:
+  /// Runs `work` (which returns its wall seconds) on the worker; either way the backend is
+  /// free again before finished() or failed(action, ...) is emitted.
+  void run_job(std::function<double()> work, const QString& action);
+
   TaskRunner* tasks_;
   bool busy_ = false;
 };

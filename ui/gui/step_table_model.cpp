@@ -82,9 +82,7 @@ QVariant StepTableModel::data(const QModelIndex& index, int role) const {
     case kStep:
       return QString::number(r.step + 1);  // people count steps from 1
     case kDisplacement:
-      return QString::number(*raw, 'f', 3);
     case kStrain:
-      return QString::number(*raw, 'f', 3);
     case kLoad:
       return QString::number(*raw, 'f', 3);
     case kMeasuredT:
