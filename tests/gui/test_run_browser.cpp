@@ -8,11 +8,25 @@
 #include "predicted_run.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/writer.hpp"
+#include "tocd/test/files.hpp"
 
 using namespace tocd;
 using tocd::gui::RunBrowserBackend;
 using tocd::gui::RunDetails;
 using tocd::gui::RunListing;
+using tocd::test::read_file;
+using tocd::test::write_file;
+
+namespace {
+
+// Opens the database at `path` in `backend`; false when it did not open in time.
+[[nodiscard]] bool open_in(RunBrowserBackend& backend, const QString& path) {
+  QSignalSpy opened(&backend, &RunBrowserBackend::database_opened);
+  backend.open_database(path);
+  return opened.wait(10000);
+}
+
+}  // namespace
 
 class RunBrowserTest : public QObject {
   Q_OBJECT
@@ -136,16 +150,13 @@ void RunBrowserTest::lists_and_loads_a_run() {
 
 void RunBrowserTest::exports_csv() {
   RunBrowserBackend backend;
-  QSignalSpy opened(&backend, &RunBrowserBackend::database_opened);
-  backend.open_database(db_path_);
-  QVERIFY(opened.wait(10000));
+  QVERIFY(open_in(backend, db_path_));
   QSignalSpy exported(&backend, &RunBrowserBackend::exported);
   const QString csv = dir_.filePath(QStringLiteral("run.csv"));
   backend.export_csv(run_id_, csv);
   QVERIFY(exported.wait(10000));
-  QFile f(csv);
-  QVERIFY(f.open(QIODevice::ReadOnly));
-  const QList<QByteArray> lines = f.readAll().trimmed().split('\n');
+  const QList<QByteArray> lines =
+      QByteArray::fromStdString(read_file(csv.toStdString())).trimmed().split('\n');
   QCOMPARE(lines.size(), 4);  // header + 3 steps
   QVERIFY(lines[0].contains("measured_T"));
   QVERIFY(lines[1].contains("0.32"));
@@ -157,11 +168,8 @@ void RunBrowserTest::exports_csv() {
 
 void RunBrowserTest::refuses_corrupt_and_foreign_files() {
   const QString junk = dir_.filePath(QStringLiteral("junk.tocdlab"));
-  {
-    QFile f(junk);
-    QVERIFY(f.open(QIODevice::WriteOnly));
-    f.write(QByteArray(4096, 'x'));
-  }
+  const std::string junk_bytes(4096, 'x');
+  QVERIFY(write_file(junk.toStdString(), junk_bytes));
   const QString missing = dir_.filePath(QStringLiteral("missing.tocdlab"));
   for (const QString& path : {junk, missing}) {
     RunBrowserBackend backend;
@@ -174,9 +182,7 @@ void RunBrowserTest::refuses_corrupt_and_foreign_files() {
     QVERIFY(!failed.at(0).at(1).toString().isEmpty());
   }
   // The refused file is left as it was.
-  QFile f(junk);
-  QVERIFY(f.open(QIODevice::ReadOnly));
-  QCOMPARE(f.readAll(), QByteArray(4096, 'x'));
+  QCOMPARE(read_file(junk.toStdString()), junk_bytes);
   QVERIFY(!QFile::exists(missing));
 }
 
@@ -186,15 +192,9 @@ void RunBrowserTest::fits_the_law_of_a_run_on_its_own_worker() {
   const QString path = dir_.filePath(QStringLiteral("predicted.tocdlab"));
   const auto run = analysis::testing::write_predicted_run(path.toStdString());
   const QString fit = dir_.filePath(QStringLiteral("fit.json"));
-  {
-    QFile f(fit);
-    QVERIFY(f.open(QIODevice::WriteOnly));
-    f.write(QByteArray::fromStdString(analysis::testing::scaled_fit_json(1.0, {1.0})));
-  }
+  QVERIFY(write_file(fit.toStdString(), analysis::testing::scaled_fit_json(1.0, {1.0})));
   RunBrowserBackend backend;
-  QSignalSpy opened(&backend, &RunBrowserBackend::database_opened);
-  backend.open_database(path);
-  QVERIFY(opened.wait(10000));
+  QVERIFY(open_in(backend, path));
   QSignalSpy fitted(&backend, &RunBrowserBackend::law_fitted);
   QSignalSpy progress(&backend, &RunBrowserBackend::fit_progress);
   QSignalSpy failed(&backend, &RunBrowserBackend::failed);
@@ -228,9 +228,7 @@ void RunBrowserTest::fits_the_law_of_a_run_on_its_own_worker() {
 
 void RunBrowserTest::expect_fit_failure(const QString& material, const QString& named, int wait_ms) {
   RunBrowserBackend backend;
-  QSignalSpy opened(&backend, &RunBrowserBackend::database_opened);
-  backend.open_database(db_path_);
-  QVERIFY(opened.wait(10000));
+  QVERIFY(open_in(backend, db_path_));
   QSignalSpy failed(&backend, &RunBrowserBackend::failed);
   QSignalSpy fitted(&backend, &RunBrowserBackend::law_fitted);
   backend.fit_law(run_id_, material);
@@ -294,9 +292,7 @@ void RunBrowserTest::computes_a_water_time_course_on_the_long_job_worker() {
     }
   }
   RunBrowserBackend backend;
-  QSignalSpy opened(&backend, &RunBrowserBackend::database_opened);
-  backend.open_database(path);
-  QVERIFY(opened.wait(10000));
+  QVERIFY(open_in(backend, path));
   QSignalSpy ready(&backend, &RunBrowserBackend::water_course_ready);
   QSignalSpy progress(&backend, &RunBrowserBackend::water_progress);
   QSignalSpy failed(&backend, &RunBrowserBackend::failed);
@@ -328,9 +324,7 @@ void RunBrowserTest::computes_a_water_time_course_on_the_long_job_worker() {
 // A run without a pin record: failed() names the run and what is missing; the worker is free.
 void RunBrowserTest::a_water_course_that_cannot_be_made_is_reported() {
   RunBrowserBackend backend;
-  QSignalSpy opened(&backend, &RunBrowserBackend::database_opened);
-  backend.open_database(db_path_);
-  QVERIFY(opened.wait(10000));
+  QVERIFY(open_in(backend, db_path_));
   QSignalSpy failed(&backend, &RunBrowserBackend::failed);
   backend.water_course(run_id_, 1000);
   QVERIFY(failed.wait(20000));

@@ -24,6 +24,7 @@
 #include "step_table_model.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/mocks/tissue.hpp"
+#include "tocd/test/files.hpp"
 
 using namespace tocd;
 using namespace tocd::gui;
@@ -110,10 +111,7 @@ void WindowRunTest::cleanup() {
 
 QString WindowRunTest::write(const QString& name, const QString& text) {
   const QString path = dir_->filePath(name);
-  QFile f(path);
-  if (!f.open(QIODevice::WriteOnly)) return {};
-  f.write(text.toUtf8());
-  return path;
+  return tocd::test::write_file(path.toStdString(), text.toStdString()) ? path : QString();
 }
 
 std::unique_ptr<MainWindow> WindowRunTest::make_window() {
