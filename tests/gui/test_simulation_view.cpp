@@ -11,6 +11,7 @@
 #include "colour_map.hpp"
 #include "main_window.hpp"
 #include "simulation_view.hpp"
+#include "test_settings.hpp"
 
 using namespace tocd::gui;
 
@@ -24,8 +25,7 @@ class SimulationViewTest : public QObject {
 void SimulationViewTest::one_prediction_fills_table_and_maps() {
   if (!StudyBackend::available()) QSKIP("this build has no simulator");
   QTemporaryDir dir;
-  MainWindow w(std::make_unique<GuiSettings>(
-      std::make_unique<QSettings>(dir.filePath(QStringLiteral("gui.ini")), QSettings::IniFormat)));
+  MainWindow w(testing::settings_in(dir));
   w.show();
   SimulationView* view = w.simulation_view();
   view->set_photons(2000);

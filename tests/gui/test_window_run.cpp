@@ -22,6 +22,7 @@
 #include "main_window.hpp"
 #include "run_view.hpp"
 #include "step_table_model.hpp"
+#include "test_settings.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/mocks/tissue.hpp"
 #include "tocd/test/files.hpp"
@@ -115,8 +116,7 @@ QString WindowRunTest::write(const QString& name, const QString& text) {
 }
 
 std::unique_ptr<MainWindow> WindowRunTest::make_window() {
-  auto w = std::make_unique<MainWindow>(std::make_unique<GuiSettings>(
-      std::make_unique<QSettings>(dir_->filePath(QStringLiteral("gui.ini")), QSettings::IniFormat)));
+  auto w = std::make_unique<MainWindow>(testing::settings_in(*dir_));
   w->set_file_chooser([this](MainWindow::FileRequest) { return next_file_; });
   w->set_predictor_factory([] { return std::make_shared<FastPredictor>(); });
   auto lab = w->simulated_lab_options();

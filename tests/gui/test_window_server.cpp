@@ -14,6 +14,7 @@
 #include "gui_settings.hpp"
 #include "main_window.hpp"
 #include "step_table_model.hpp"
+#include "test_settings.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/push.hpp"
 #include "tocd/db/reader.hpp"
@@ -34,8 +35,7 @@ class WindowServerTest : public QObject {
 };
 
 std::unique_ptr<MainWindow> WindowServerTest::make_window(const QString& answer) {
-  auto w = std::make_unique<MainWindow>(std::make_unique<GuiSettings>(
-      std::make_unique<QSettings>(dir_.filePath(QStringLiteral("gui.ini")), QSettings::IniFormat)));
+  auto w = std::make_unique<MainWindow>(testing::settings_in(dir_));
   w->set_file_chooser([answer](MainWindow::FileRequest r) {
     return r == MainWindow::FileRequest::open_server ? answer : QString();
   });
