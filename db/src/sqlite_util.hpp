@@ -83,6 +83,29 @@ class Statement {
   sqlite3_stmt* stmt_ = nullptr;
 };
 
+/// The current row of a statement, read as record_rows.hpp reads a row of either backend.
+class Row {
+ public:
+  explicit Row(const Statement& s) noexcept : s_(s) {}
+  std::int64_t i64(int col) const { return s_.col_int(col); }
+  double f64(int col) const { return s_.col_double(col); }
+  std::string text(int col) const { return s_.col_text(col); }
+  bool null(int col) const { return s_.col_null(col); }
+
+ private:
+  const Statement& s_;
+};
+
+/// Every row of `sql`, its one parameter bound to `key`, as `read(const Row&)` makes it.
+template <class Read>
+auto read_rows(const Connection& c, std::string_view sql, std::int64_t key, Read read) {
+  Statement s(c, sql);
+  s.bind(1, key);
+  std::vector<decltype(read(Row(s)))> out;
+  while (s.step()) out.push_back(read(Row(s)));
+  return out;
+}
+
 /// BEGIN IMMEDIATE .. COMMIT, rolled back when destroyed without commit().
 class Transaction {
  public:

@@ -62,6 +62,20 @@ class Result {
   PGresult* r_ = nullptr;
 };
 
+/// Row `i` of a result, read as record_rows.hpp reads a row of either backend.
+class Row {
+ public:
+  Row(const Result& r, int i) noexcept : r_(r), i_(i) {}
+  std::int64_t i64(int col) const { return r_.i64(i_, col); }
+  double f64(int col) const { return r_.f64(i_, col); }
+  std::string text(int col) const { return r_.text(i_, col); }
+  bool null(int col) const { return r_.null(i_, col); }
+
+ private:
+  const Result& r_;
+  int i_;
+};
+
 class Connection {
  public:
   /// Connects to `uri` (libpq's environment, service file and ~/.pgpass fill in the rest).
@@ -96,6 +110,16 @@ class Connection {
   PGconn* c_ = nullptr;
   std::string name_;
 };
+
+/// Every row of `sql`, its parameter $1 set to `key`, as `read(const Row&)` makes it.
+template <class Read>
+auto read_rows(const Connection& c, const std::string& sql, std::int64_t key, Read read) {
+  const Result r = c.query(sql, {key});
+  std::vector<decltype(read(Row(r, 0)))> out;
+  out.reserve(static_cast<std::size_t>(r.rows()));
+  for (int i = 0; i < r.rows(); ++i) out.push_back(read(Row(r, i)));
+  return out;
+}
 
 /// BEGIN .. COMMIT, rolled back when destroyed without commit().
 class Transaction {
