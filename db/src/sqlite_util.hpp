@@ -13,6 +13,7 @@
 #include <sqlite3.h>
 
 #include "tocd/db/database.hpp"
+#include "transaction.hpp"
 
 namespace tocd::db::detail {
 
@@ -106,18 +107,13 @@ auto read_rows(const Connection& c, std::string_view sql, std::int64_t key, Read
   return out;
 }
 
-/// BEGIN IMMEDIATE .. COMMIT, rolled back when destroyed without commit().
-class Transaction {
- public:
-  explicit Transaction(const Connection& c);
-  ~Transaction();
-  Transaction(const Transaction&) = delete;
-  Transaction& operator=(const Transaction&) = delete;
-  void commit();
+/// ROLLBACK, its failure ignored: for a transaction given up (BasicTransaction's destructor).
+void rollback_quietly(const Connection& c) noexcept;
 
- private:
-  const Connection& c_;
-  bool open_ = true;
+/// BEGIN IMMEDIATE .. COMMIT, rolled back when destroyed without commit().
+class Transaction : public BasicTransaction<Connection> {
+ public:
+  explicit Transaction(const Connection& c) : BasicTransaction(c, "BEGIN IMMEDIATE") {}
 };
 
 /// What SQLite's quick_check finds wrong with the file behind `c`: every page read once,

@@ -14,6 +14,7 @@
 #include <libpq-fe.h>
 
 #include "tocd/db/database.hpp"
+#include "transaction.hpp"
 
 namespace tocd::db::pg {
 
@@ -121,18 +122,14 @@ auto read_rows(const Connection& c, const std::string& sql, std::int64_t key, Re
   return out;
 }
 
-/// BEGIN .. COMMIT, rolled back when destroyed without commit().
-class Transaction {
- public:
-  explicit Transaction(const Connection& c, const char* begin = "BEGIN");
-  ~Transaction();
-  Transaction(const Transaction&) = delete;
-  Transaction& operator=(const Transaction&) = delete;
-  void commit();
+/// ROLLBACK, its failure ignored: for a transaction given up (BasicTransaction's destructor).
+void rollback_quietly(const Connection& c) noexcept;
 
- private:
-  const Connection& c_;
-  bool open_ = true;
+/// BEGIN (or `begin`, e.g. with an isolation level) .. COMMIT, rolled back when destroyed
+/// without commit().
+class Transaction : public detail::BasicTransaction<Connection> {
+ public:
+  explicit Transaction(const Connection& c, const char* begin = "BEGIN") : BasicTransaction(c, begin) {}
 };
 
 /// A value in COPY's text format: NULL for NaN, shortest round-trip digits otherwise.
