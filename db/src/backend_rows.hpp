@@ -17,7 +17,7 @@ using detail::find_run;
 using detail::first_incomplete_step;
 using detail::instruments;
 using detail::last_recorded_t_ns;
-using detail::require_run;
+using detail::require_run;  // one template for both
 using detail::run_anchors;
 using detail::run_channels;
 using detail::run_events;
@@ -28,7 +28,6 @@ using pg::find_run;
 using pg::first_incomplete_step;
 using pg::instruments;
 using pg::last_recorded_t_ns;
-using pg::require_run;
 using pg::run_anchors;
 using pg::run_channels;
 using pg::run_events;

@@ -9,8 +9,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <map>
+#include <string>
 #include <vector>
 
+#include "tocd/db/database.hpp"
 #include "tocd/db/records.hpp"
 
 namespace tocd::db::detail {
@@ -159,6 +161,15 @@ InstrumentRecord instrument_from_row(const Row& row) {
 template <class Row>
 SampleRecord specimen_from_row(const Row& row) {
   return {row.i64(0), row.text(1), row.text(2), row.f64(3), row.text(4)};
+}
+
+/// The run `run_id` as find_run(c, run_id) of `c`'s backend reads it; DatabaseError when the
+/// store has none.
+template <class Connection>
+RunRecord require_run(const Connection& c, std::int64_t run_id) {
+  auto r = find_run(c, run_id);
+  if (!r) throw DatabaseError("no run with id " + std::to_string(run_id) + " in this database");
+  return *r;
 }
 
 /// The first step index not in `completed` (the completed steps' indices, ascending): where a

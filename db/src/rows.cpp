@@ -33,12 +33,6 @@ std::vector<RunRecord> all_runs(const Connection& c) {
   return out;
 }
 
-RunRecord require_run(const Connection& c, std::int64_t run_id) {
-  auto r = find_run(c, run_id);
-  if (!r) throw DatabaseError("no run with id " + std::to_string(run_id) + " in this database");
-  return *r;
-}
-
 std::vector<RunAnchor> run_anchors(const Connection& c, std::int64_t run_id) {
   return read_rows(c, std::string(kAnchorSelect) + " WHERE run_id = ? ORDER BY segment", run_id,
                    [&](const Row& row) { return anchor_from_row(row, run_id); });

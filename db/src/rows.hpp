@@ -6,6 +6,7 @@
 #include <optional>
 #include <vector>
 
+#include "record_rows.hpp"
 #include "sqlite_util.hpp"
 #include "tocd/db/records.hpp"
 
@@ -13,7 +14,6 @@ namespace tocd::db::detail {
 
 std::optional<RunRecord> find_run(const Connection& c, std::int64_t run_id);
 std::vector<RunRecord> all_runs(const Connection& c);
-RunRecord require_run(const Connection& c, std::int64_t run_id);
 std::vector<RunAnchor> run_anchors(const Connection& c, std::int64_t run_id);
 std::vector<Channel> run_channels(const Connection& c, std::int64_t run_id);
 std::vector<StepRecord> run_steps(const Connection& c, std::int64_t run_id);
