@@ -6,29 +6,16 @@
       after a resume), and `steps` has STEPS rows numbered from 1
 Exits 1 with a message on stderr at the first failed check.
 """
-import re
 import sys
 
 import pandas as pd
 
-
-def fail(message):
-    print(f"check_pandas_views: {message}", file=sys.stderr)
-    sys.exit(1)
-
-
-def example(markdown_path):
-    text = open(markdown_path, encoding="utf-8").read()
-    m = re.search(r"<!-- pandas-example -->\s*```python\n(.*?)```", text, re.S)
-    if not m:
-        fail(f"{markdown_path}: no python block after <!-- pandas-example -->")
-    return m.group(1)
+from docs_example import fail, run_example
 
 
 def main():
     doc, db_path, run_id, utc_ns, n_steps = sys.argv[1:6]
-    scope = {"db_path": db_path, "run_id": int(run_id)}
-    exec(compile(example(doc), doc, "exec"), scope)
+    scope = run_example(doc, "pandas-example", {"db_path": db_path, "run_id": int(run_id)})
     power = scope["power_W"]
     when = pd.Timestamp(int(utc_ns), unit="ns", tz="UTC")
     if when not in power.index:

@@ -43,15 +43,24 @@ std::vector<SeriesRow> series(const std::filesystem::path& path, std::int64_t ru
   return out;
 }
 
+// A run in `db` whose clock runs kFactor times faster than real time, and its power channel.
+struct FastRun {
+  RunRecord run;
+  Channel power;
+};
+FastRun fast_run(Database& db) {
+  NewRun nr;
+  nr.clock_factor = kFactor;
+  const RunRecord run = db.create_run(nr);
+  return {run, db.add_channel({0, run.id, "power", "W", 0, 10.0})};
+}
+
 TEST(DbClockFactor, UtcIsRealTimeAndTheRunClockIsItsOwnColumn) {
   const TempDir dir("db_clock");
   const auto path = dir / "lab.sqlite";
   Database db(path);
-  NewRun nr;
-  nr.clock_factor = kFactor;
-  const RunRecord run = db.create_run(nr);
+  const auto [run, power] = fast_run(db);
   EXPECT_DOUBLE_EQ(run.clock_factor, kFactor);
-  const Channel power = db.add_channel({0, run.id, "power", "W", 0, 10.0});
   // 20 s on the run's clock, one sample a second: 2 s of real time at factor 10.
   {
     Writer w(db);
@@ -80,10 +89,7 @@ TEST(DbClockFactor, AResumedFastRunKeepsItsSamplesOrderedAndItsUtcReal) {
   const TempDir dir("db_clock");
   const auto path = dir / "lab.sqlite";
   Database db(path);
-  NewRun nr;
-  nr.clock_factor = kFactor;
-  const RunRecord run = db.create_run(nr);
-  const Channel power = db.add_channel({0, run.id, "power", "W", 0, 10.0});
+  const auto [run, power] = fast_run(db);
   // 30 s on the run's clock (3 s of real time at factor 10) recorded within a few real ms:
   // the run clock is now well ahead of the monotonic clock.
   const std::int64_t last = run.monotonic_anchor_ns + 30 * kSecond;

@@ -13,6 +13,7 @@
 
 #include <unistd.h>
 
+#include "tocd/db/database.hpp"
 #include "tocd/test/temp_dir.hpp"
 
 #ifdef TOCD_DB_TEST_SERVER
@@ -107,5 +108,12 @@ class TestDatabase {
   std::string name_;
   std::string location_;
 };
+
+/// A new run in `db` with one channel `name` in `unit`: what a test records samples into.
+inline Channel run_with_channel(Database& db, const std::string& name, const std::string& unit,
+                                double nominal_rate_Hz = kUnset) {
+  const auto run = db.create_run({}).id;
+  return db.add_channel({0, run, name, unit, 0, nominal_rate_Hz});
+}
 
 }  // namespace tocd::db::testing

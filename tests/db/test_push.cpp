@@ -95,6 +95,17 @@ void expect_server_mirrors(const std::string& file, const std::string& server) {
   }
 }
 
+// The error push_runs(file, target) fails with; a test failure when it succeeds.
+std::string push_error(const std::string& file, const std::string& target) {
+  try {
+    push_runs(file, target);
+  } catch (const DatabaseError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "the push to '" << target << "' succeeded";
+  return "";
+}
+
 // A rig's local file and a fresh database on the test server for it to push to.
 class PushTest : public ::testing::Test {
  protected:
@@ -193,46 +204,26 @@ TEST_F(DbPush, TwoPushesOfTheSameFileAtOnceStoreEachRunOnce) {
 TEST_F(DbPush, BadTargetsAreRefusedNamingWhatIsWrong) {
   record_local(10);
   const auto before = tocd::test::read_file(file_);
-  try {
-    push_runs(file_, "postgresql://127.0.0.1:1/lab");  // nobody listens on port 1
-    FAIL() << "push to a server that is down succeeded";
-  } catch (const DatabaseError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("cannot connect to PostgreSQL at 'postgresql://127.0.0.1:1/lab'"));
-  }
-  try {
-    push_runs(file_, "postgresql://tocd:secret@127.0.0.1:1/lab");
-    FAIL() << "push succeeded";
-  } catch (const DatabaseError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("postgresql://tocd:***@127.0.0.1:1/lab"));
-    EXPECT_THAT(e.what(), ::testing::Not(HasSubstr("secret")));
-  }
+  // Nobody listens on port 1.
+  EXPECT_THAT(push_error(file_, "postgresql://127.0.0.1:1/lab"),
+              HasSubstr("cannot connect to PostgreSQL at 'postgresql://127.0.0.1:1/lab'"));
+  const std::string with_password = push_error(file_, "postgresql://tocd:secret@127.0.0.1:1/lab");
+  EXPECT_THAT(with_password, HasSubstr("postgresql://tocd:***@127.0.0.1:1/lab"));
+  EXPECT_THAT(with_password, ::testing::Not(HasSubstr("secret")));
   EXPECT_THROW(push_runs(file_, "lab.db"), DatabaseError);
   // A URI libpq cannot parse, and a user the server does not know: said, naming the server.
-  try {
-    push_runs(file_, "postgresql://localhost:notaport/lab");
-    FAIL() << "push to a malformed URI succeeded";
-  } catch (const DatabaseError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("cannot connect to PostgreSQL at 'postgresql://localhost:notaport/lab'"));
-    EXPECT_THAT(e.what(), HasSubstr("port"));
-  }
-  try {
-    push_runs(file_, "postgresql://no_such_user@/postgres");
-    FAIL() << "push as an unknown user succeeded";
-  } catch (const DatabaseError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("authentication failed for user \"no_such_user\""));
-  }
+  const std::string bad_port = push_error(file_, "postgresql://localhost:notaport/lab");
+  EXPECT_THAT(bad_port, HasSubstr("cannot connect to PostgreSQL at 'postgresql://localhost:notaport/lab'"));
+  EXPECT_THAT(bad_port, HasSubstr("port"));
+  EXPECT_THAT(push_error(file_, "postgresql://no_such_user@/postgres"),
+              HasSubstr("authentication failed for user \"no_such_user\""));
   EXPECT_EQ(tocd::test::read_file(file_), before);  // the file is only read
 }
 
 TEST_F(DbPush, AServerDatabaseOfAnotherApplicationIsLeftUntouched) {
   record_local(10);
   server_.exec("CREATE TABLE orders(id int)");  // another application's table
-  try {
-    push_runs(file_, server_.location());
-    FAIL() << "pushed into another application's database";
-  } catch (const DatabaseError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("not a tocdlab database"));
-  }
+  EXPECT_THAT(push_error(file_, server_.location()), HasSubstr("not a tocdlab database"));
 }
 
 // The server's cluster, stopped and started as its administrator would (pg_virtualenv's

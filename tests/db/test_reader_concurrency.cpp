@@ -18,14 +18,15 @@
 namespace {
 
 using namespace tocd::db;
+using tocd::db::testing::run_with_channel;
 using tocd::db::testing::TestDatabase;
 
 TEST(DbConcurrency, ReadersSeeCommittedPrefixesWhileTheWriterWrites) {
   TestDatabase dir;
   const auto path = dir.location();
   Database db(path);
-  const auto run = db.create_run({}).id;
-  const auto ch = db.add_channel({0, run, "load", "N", 0, 1000.0});
+  const Channel ch = run_with_channel(db, "load", "N", 1000.0);
+  const auto run = ch.run_id;
   Writer w(db, {.batch_interval = std::chrono::milliseconds(5),
                 .batch_rows = 2000,
                 .queue_capacity = 1'000'000,
@@ -87,8 +88,7 @@ class DbDecimation : public ::testing::Test {
  protected:
   void SetUp() override {
     db_ = std::make_unique<Database>(dir_.location());
-    const auto run = db_->create_run({}).id;
-    ch_ = db_->add_channel({0, run, "load", "N", 0, kUnset}).id;
+    ch_ = run_with_channel(*db_, "load", "N").id;
     Writer w(*db_);
     for (int i = 0; i < kN; ++i) w.enqueue(Sample{ch_, 1000 + 10 * i, value(i)});
   }
