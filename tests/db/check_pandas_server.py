@@ -8,7 +8,7 @@ Exits 1 with a message on stderr at the first failed check.
 """
 import sys
 
-from docs_example import fail, run_example
+from docs_example import check_tables, fail, run_example
 
 
 def main():
@@ -16,16 +16,8 @@ def main():
     scope = run_example(doc, "pandas-server-example", {"db_uri": db_uri, "run_id": int(run_id)})
     if len(scope["series"]) != int(n_samples):
         fail(f"series has {len(scope['series'])} rows, expected {n_samples}")
-    steps = scope["steps"]
-    if list(steps["step"]) != list(range(1, int(n_steps) + 1)):
-        fail(f"steps {list(steps['step'])}, expected 1..{n_steps}")
-    if steps["measured_T"].isna().any():
-        fail("a completed step has no measured_T")
-    if not scope["power_W"].index.is_monotonic_increasing:
-        fail("power readings are not in UTC order")
-    if "power" not in scope["wide"].columns:
-        fail(f"wide table columns {list(scope['wide'].columns)}")
-    print(f"check_pandas_server: {len(scope['series'])} samples, {len(steps)} measured step(s)")
+    check_tables(scope, int(n_steps), "measured_T")
+    print(f"check_pandas_server: {len(scope['series'])} samples, {len(scope['steps'])} measured step(s)")
 
 
 if __name__ == "__main__":

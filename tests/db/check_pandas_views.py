@@ -10,7 +10,7 @@ import sys
 
 import pandas as pd
 
-from docs_example import fail, run_example
+from docs_example import check_tables, fail, run_example
 
 
 def main():
@@ -23,16 +23,8 @@ def main():
         fail(f"no power reading at {when}; nearest {near} ({(near - when).total_seconds()} s off)")
     if abs(float(power.loc[when]) - 9e-4) > 1e-15:
         fail(f"power at {when} is {power.loc[when]}, not 9e-4")
-    if not power.index.is_monotonic_increasing:
-        fail("power readings are not in UTC order")
-    steps = scope["steps"]
-    if len(steps) != int(n_steps) or list(steps["step"]) != list(range(1, int(n_steps) + 1)):
-        fail(f"steps {list(steps['step'])}, expected 1..{n_steps}")
-    if steps["measured_T_se"].isna().any():
-        fail("a completed step has no measured_T_se")
-    if "power" not in scope["wide"].columns:
-        fail(f"wide table columns {list(scope['wide'].columns)}")
-    print(f"check_pandas_views: power at {when} = {power.loc[when]}, {len(steps)} measured step(s)")
+    check_tables(scope, int(n_steps), "measured_T_se")
+    print(f"check_pandas_views: power at {when} = {power.loc[when]}, {len(scope['steps'])} measured step(s)")
 
 
 if __name__ == "__main__":

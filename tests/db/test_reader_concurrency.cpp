@@ -93,6 +93,13 @@ class DbDecimation : public ::testing::Test {
     for (int i = 0; i < kN; ++i) w.enqueue(Sample{ch_, 1000 + 10 * i, value(i)});
   }
   static double value(int i) { return std::sin(0.01 * i) + (i == 4321 ? 50.0 : 0.0); }  // one spike
+  // All of the channel, decimated to at most `max_points` by `decimation`, as a reader reads it.
+  std::vector<Sample> decimated(Decimation decimation, std::size_t max_points) const {
+    SampleQuery q;
+    q.decimation = decimation;
+    q.max_points = max_points;
+    return Reader(dir_.location()).samples(ch_, q);
+  }
   static constexpr int kN = 10000;
   TestDatabase dir_;
   std::unique_ptr<Database> db_;
@@ -113,11 +120,7 @@ TEST_F(DbDecimation, TimeRangeIsInclusive) {
 }
 
 TEST_F(DbDecimation, MeanBucketsMatchADirectComputation) {
-  Reader rd(dir_.location());
-  SampleQuery q;
-  q.decimation = Decimation::mean;
-  q.max_points = 100;
-  const auto got = rd.samples(ch_, q);
+  const auto got = decimated(Decimation::mean, 100);
   ASSERT_LE(got.size(), 100u);
   ASSERT_GE(got.size(), 90u);
   // Same buckets computed here: width = span / buckets + 1 over [t_min, t_max].
@@ -142,11 +145,7 @@ TEST_F(DbDecimation, MeanBucketsMatchADirectComputation) {
 }
 
 TEST_F(DbDecimation, MinMaxKeepsTheSpikeAndTheRange) {
-  Reader rd(dir_.location());
-  SampleQuery q;
-  q.decimation = Decimation::min_max;
-  q.max_points = 200;
-  const auto got = rd.samples(ch_, q);
+  const auto got = decimated(Decimation::min_max, 200);
   ASSERT_LE(got.size(), 200u);
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (int i = 0; i < kN; ++i) {
@@ -167,8 +166,7 @@ TEST_F(DbDecimation, MinMaxKeepsTheSpikeAndTheRange) {
   EXPECT_EQ(ghi, hi);
   EXPECT_TRUE(spike_at_its_time);
   // Fewer samples than max_points: returned as they are.
-  q.max_points = 1'000'000;
-  EXPECT_EQ(rd.samples(ch_, q).size(), static_cast<std::size_t>(kN));
+  EXPECT_EQ(decimated(Decimation::min_max, 1'000'000).size(), static_cast<std::size_t>(kN));
 }
 
 }  // namespace
