@@ -46,16 +46,24 @@ void print_stats(const WriterStats& s) {
              s.dropped, s.rejected, s.failed);
 }
 
+// The drain and sustained phases record this many channels of one run.
+constexpr int kChannels = 4;
+
+// A new run in `db` with kChannels voltage channels; their ids.
+std::vector<std::int64_t> run_with_channels(Database& db) {
+  const auto run = db.create_run({}).id;
+  std::vector<std::int64_t> ch;
+  for (int i = 0; i < kChannels; ++i)
+    ch.push_back(db.add_channel({0, run, fmt::format("ch{}", i), "V", 0, kUnset}).id);
+  return ch;
+}
+
 // Writer drain rate: producers enqueue a backlog far faster than any disk, the writer drains
 // it; samples/s = samples / (time until the last one is committed).
 bool drain(const std::filesystem::path& path, std::int64_t total) {
   remove_db(path);
   Database db(path);
-  const auto run = db.create_run({}).id;
-  constexpr int kChannels = 4;
-  std::vector<std::int64_t> ch;
-  for (int i = 0; i < kChannels; ++i)
-    ch.push_back(db.add_channel({0, run, fmt::format("ch{}", i), "V", 0, kUnset}).id);
+  const std::vector<std::int64_t> ch = run_with_channels(db);
   WriterOptions wo;
   wo.queue_capacity = static_cast<std::size_t>(total) + 1;  // the bench measures commits, not drops
   Writer w(db, wo);
@@ -95,11 +103,7 @@ bool drain(const std::filesystem::path& path, std::int64_t total) {
 bool sustained(const std::filesystem::path& path, double seconds, double rate) {
   remove_db(path);
   Database db(path);
-  const auto run = db.create_run({}).id;
-  constexpr int kChannels = 4;
-  std::vector<std::int64_t> ch;
-  for (int i = 0; i < kChannels; ++i)
-    ch.push_back(db.add_channel({0, run, fmt::format("ch{}", i), "V", 0, kUnset}).id);
+  const std::vector<std::int64_t> ch = run_with_channels(db);
   Writer w(db);
   std::atomic<bool> stop{false};
   std::atomic<std::int64_t> reads{0};

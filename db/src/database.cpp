@@ -9,9 +9,9 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include "backend_rows.hpp"
 #include "pg/pg_database.hpp"
 #include "resume_plan.hpp"
-#include "rows.hpp"
 #include "run_lock.hpp"
 #include "schema.hpp"
 #include "sqlite_util.hpp"
@@ -299,30 +299,18 @@ ResumePoint Database::resume_run(std::int64_t run_id, double clock_factor) {
   if (impl_->server) return impl_->server->resume_run(run_id, clock_factor);
   std::lock_guard lk(impl_->mu);
   RunRecord r = detail::require_run(impl_->c, run_id);
-  if (r.status == RunStatus::completed)
-    throw DatabaseError(fmt::format("run {} is completed; there is nothing to resume", run_id));
-  if (r.status == RunStatus::running)
-    throw DatabaseError(fmt::format("run {} is still running{}; it cannot be resumed", run_id,
-                                    impl_->locks->is_held(run_id) ? " in another process" : ""));
+  detail::require_resumable(r, [&] { return impl_->locks->is_held(run_id); });
   if (!impl_->locks->acquire(run_id))
     throw DatabaseError(fmt::format("run {} is being resumed by another process", run_id));
   try {
     Transaction t(impl_->c);
-    const int first_incomplete = detail::first_incomplete_step(impl_->c, run_id);
-    const auto last = detail::last_recorded_t_ns(impl_->c, run_id);
-    const auto anchors = detail::run_anchors(impl_->c, run_id);
-    const std::int64_t now = monotonic_ns();
-    const auto wall = wall_clock_ns();
-    ResumePoint p = detail::plan_resume(r, anchors, last, first_incomplete, now, wall);
+    auto [p, wall] = rows::plan_resume_now(impl_->c, r);
     impl_->add_anchor(run_id, wall, p.gap_to_t_ns, clock_factor);
     Statement s(impl_->c, "UPDATE runs SET status = 'running', ended_utc_ns = NULL WHERE id = ?");
     s.bind(1, run_id).run();
     p.gap_event.id = impl_->insert_event(p.gap_event);
     t.commit();
-    r.status = RunStatus::running;
-    r.ended_utc_ns.reset();
-    p.run = r;
-    return p;
+    return detail::resumed(std::move(p), std::move(r));
   } catch (...) {
     impl_->locks->release(run_id);
     throw;

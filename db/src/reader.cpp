@@ -5,13 +5,13 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
 
-#include "pg/pg_rows.hpp"
+#include "backend_rows.hpp"
 #include "pg/pg_schema.hpp"
-#include "rows.hpp"
 #include "run_lock.hpp"
 #include "schema.hpp"
 #include "sqlite_util.hpp"
@@ -44,6 +44,15 @@ struct Reader::Impl {
     if (!open_note.empty()) warnings.push_back(open_note);
     if (auto damage = quick_check(p); !damage.empty()) warnings.push_back(std::move(damage));
     for (const auto& w : warnings) logger("db")->warn("{}", w);
+  }
+
+  // `read(c)` for a file, `read(*server)` for a server, under the reader's lock: `read` calls
+  // the rows:: function that fits the connection it is given.
+  template <class Read>
+  auto with_backend(Read read) const {
+    std::lock_guard lk(mu);
+    if (server) return read(std::as_const(*server));
+    return read(c);
   }
 
   std::string quick_check(const std::filesystem::path& p) const {
@@ -191,30 +200,15 @@ std::vector<RunSummary> Reader::runs() const {
 }
 
 std::optional<RunRecord> Reader::find_run(std::int64_t run_id) const {
-  if (impl_->server) {
-    std::lock_guard lk(impl_->mu);
-    return pg::find_run(*impl_->server, run_id);
-  }
-  std::lock_guard lk(impl_->mu);
-  return detail::find_run(impl_->c, run_id);
+  return impl_->with_backend([&](const auto& c) { return rows::find_run(c, run_id); });
 }
 
 RunRecord Reader::run(std::int64_t run_id) const {
-  if (impl_->server) {
-    std::lock_guard lk(impl_->mu);
-    return pg::require_run(*impl_->server, run_id);
-  }
-  std::lock_guard lk(impl_->mu);
-  return detail::require_run(impl_->c, run_id);
+  return impl_->with_backend([&](const auto& c) { return rows::require_run(c, run_id); });
 }
 
 std::vector<RunAnchor> Reader::anchors(std::int64_t run_id) const {
-  if (impl_->server) {
-    std::lock_guard lk(impl_->mu);
-    return pg::run_anchors(*impl_->server, run_id);
-  }
-  std::lock_guard lk(impl_->mu);
-  return detail::run_anchors(impl_->c, run_id);
+  return impl_->with_backend([&](const auto& c) { return rows::run_anchors(c, run_id); });
 }
 
 bool Reader::is_live(std::int64_t run_id) const {
@@ -248,37 +242,15 @@ std::optional<InstrumentRecord> Reader::instrument(std::int64_t instrument_id) c
 }
 
 std::vector<InstrumentRecord> Reader::instruments() const {
-  if (impl_->server) {
-    std::lock_guard lk(impl_->mu);
-    return pg::instruments(*impl_->server);
-  }
-  std::lock_guard lk(impl_->mu);
-  Statement s(impl_->c, "SELECT id, kind, model, serial, firmware, calibration FROM instruments ORDER BY id");
-  std::vector<InstrumentRecord> out;
-  while (s.step())
-    out.push_back({s.col_int(0), s.col_text(1), s.col_text(2), s.col_text(3), s.col_text(4), s.col_text(5)});
-  return out;
+  return impl_->with_backend([](const auto& c) { return rows::instruments(c); });
 }
 
 std::optional<SampleRecord> Reader::sample(std::int64_t sample_id) const {
-  if (impl_->server) {
-    std::lock_guard lk(impl_->mu);
-    return pg::specimen(*impl_->server, sample_id);
-  }
-  std::lock_guard lk(impl_->mu);
-  Statement s(impl_->c, "SELECT id, name, tissue, thickness_mm, notes FROM specimens WHERE id = ?");
-  s.bind(1, sample_id);
-  if (!s.step()) return std::nullopt;
-  return SampleRecord{s.col_int(0), s.col_text(1), s.col_text(2), s.col_double(3), s.col_text(4)};
+  return impl_->with_backend([&](const auto& c) { return rows::specimen(c, sample_id); });
 }
 
 std::vector<Channel> Reader::channels(std::int64_t run_id) const {
-  if (impl_->server) {
-    std::lock_guard lk(impl_->mu);
-    return pg::run_channels(*impl_->server, run_id);
-  }
-  std::lock_guard lk(impl_->mu);
-  return detail::run_channels(impl_->c, run_id);
+  return impl_->with_backend([&](const auto& c) { return rows::run_channels(c, run_id); });
 }
 
 std::optional<Channel> Reader::channel(std::int64_t run_id, const std::string& name) const {
@@ -329,21 +301,11 @@ std::vector<StepRecord> Reader::steps(std::int64_t run_id) const {
 }
 
 std::vector<EventRecord> Reader::events(std::int64_t run_id) const {
-  if (impl_->server) {
-    std::lock_guard lk(impl_->mu);
-    return pg::run_events(*impl_->server, run_id);
-  }
-  std::lock_guard lk(impl_->mu);
-  return detail::run_events(impl_->c, run_id);
+  return impl_->with_backend([&](const auto& c) { return rows::run_events(c, run_id); });
 }
 
 std::vector<PredictionRecord> Reader::predictions(std::int64_t run_id) const {
-  if (impl_->server) {
-    std::lock_guard lk(impl_->mu);
-    return pg::run_predictions(*impl_->server, run_id);
-  }
-  std::lock_guard lk(impl_->mu);
-  return detail::run_predictions(impl_->c, run_id);
+  return impl_->with_backend([&](const auto& c) { return rows::run_predictions(c, run_id); });
 }
 
 namespace {
@@ -398,12 +360,7 @@ std::vector<CompareRow> Reader::compare(std::int64_t run_id) const {
 }
 
 int Reader::first_incomplete_step(std::int64_t run_id) const {
-  if (impl_->server) {
-    std::lock_guard lk(impl_->mu);
-    return pg::first_incomplete_step(*impl_->server, run_id);
-  }
-  std::lock_guard lk(impl_->mu);
-  return detail::first_incomplete_step(impl_->c, run_id);
+  return impl_->with_backend([&](const auto& c) { return rows::first_incomplete_step(c, run_id); });
 }
 
 }  // namespace tocd::db

@@ -2,12 +2,28 @@
 #include "resume_plan.hpp"
 
 #include <algorithm>
+#include <utility>
 
 #include <fmt/format.h>
 
 #include "tocd/core/clock.hpp"
 
 namespace tocd::db::detail {
+
+void require_resumable(const RunRecord& run, const std::function<bool()>& held_elsewhere) {
+  if (run.status == RunStatus::completed)
+    throw DatabaseError(fmt::format("run {} is completed; there is nothing to resume", run.id));
+  if (run.status == RunStatus::running)
+    throw DatabaseError(fmt::format("run {} is still running{}; it cannot be resumed", run.id,
+                                    held_elsewhere() ? " in another process" : ""));
+}
+
+ResumePoint resumed(ResumePoint p, RunRecord run) {
+  run.status = RunStatus::running;
+  run.ended_utc_ns.reset();
+  p.run = std::move(run);
+  return p;
+}
 
 ResumePoint plan_resume(const RunRecord& run, const std::vector<RunAnchor>& anchors,
                         std::optional<std::int64_t> last_t_ns, int first_incomplete_step, std::int64_t now_ns,

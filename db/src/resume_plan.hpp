@@ -6,6 +6,7 @@
 // decide.
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -20,6 +21,13 @@ namespace tocd::db::detail {
 ResumePoint plan_resume(const RunRecord& run, const std::vector<RunAnchor>& anchors,
                         std::optional<std::int64_t> last_t_ns, int first_incomplete_step, std::int64_t now_ns,
                         std::int64_t wall_ns);
+
+/// Throws DatabaseError when `run` cannot be resumed: it is completed, or still running
+/// (`held_elsewhere()`, asked only then, tells whether another process records it).
+void require_resumable(const RunRecord& run, const std::function<bool()>& held_elsewhere);
+
+/// A resumed run's resume point: `p` with `run`, running again and no longer ended.
+ResumePoint resumed(ResumePoint p, RunRecord run);
 
 /// A run left `running` by a process that no longer records it, found on opening the store:
 /// when it ended (the UTC of its last record, none when nothing was recorded) and the

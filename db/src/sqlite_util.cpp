@@ -173,17 +173,8 @@ bool Statement::col_null(int i) const {
   return sqlite3_column_type(stmt_, i) == SQLITE_NULL;
 }
 
-Transaction::Transaction(const Connection& c) : c_(c) {
-  c_.exec("BEGIN IMMEDIATE");
-}
-
-Transaction::~Transaction() {
-  if (open_) sqlite3_exec(c_.get(), "ROLLBACK", nullptr, nullptr, nullptr);
-}
-
-void Transaction::commit() {
-  c_.exec("COMMIT");
-  open_ = false;
+void rollback_quietly(const Connection& c) noexcept {
+  sqlite3_exec(c.get(), "ROLLBACK", nullptr, nullptr, nullptr);
 }
 
 std::vector<std::string> quick_check(const Connection& c) {

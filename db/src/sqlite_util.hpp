@@ -13,6 +13,7 @@
 #include <sqlite3.h>
 
 #include "tocd/db/database.hpp"
+#include "transaction.hpp"
 
 namespace tocd::db::detail {
 
@@ -83,18 +84,36 @@ class Statement {
   sqlite3_stmt* stmt_ = nullptr;
 };
 
-/// BEGIN IMMEDIATE .. COMMIT, rolled back when destroyed without commit().
-class Transaction {
+/// The current row of a statement, read as record_rows.hpp reads a row of either backend.
+class Row {
  public:
-  explicit Transaction(const Connection& c);
-  ~Transaction();
-  Transaction(const Transaction&) = delete;
-  Transaction& operator=(const Transaction&) = delete;
-  void commit();
+  explicit Row(const Statement& s) noexcept : s_(s) {}
+  std::int64_t i64(int col) const { return s_.col_int(col); }
+  double f64(int col) const { return s_.col_double(col); }
+  std::string text(int col) const { return s_.col_text(col); }
+  bool null(int col) const { return s_.col_null(col); }
 
  private:
-  const Connection& c_;
-  bool open_ = true;
+  const Statement& s_;
+};
+
+/// Every row of `sql`, its one parameter bound to `key`, as `read(const Row&)` makes it.
+template <class Read>
+auto read_rows(const Connection& c, std::string_view sql, std::int64_t key, Read read) {
+  Statement s(c, sql);
+  s.bind(1, key);
+  std::vector<decltype(read(Row(s)))> out;
+  while (s.step()) out.push_back(read(Row(s)));
+  return out;
+}
+
+/// ROLLBACK, its failure ignored: for a transaction given up (BasicTransaction's destructor).
+void rollback_quietly(const Connection& c) noexcept;
+
+/// BEGIN IMMEDIATE .. COMMIT, rolled back when destroyed without commit().
+class Transaction : public BasicTransaction<Connection> {
+ public:
+  explicit Transaction(const Connection& c) : BasicTransaction(c, "BEGIN IMMEDIATE") {}
 };
 
 /// What SQLite's quick_check finds wrong with the file behind `c`: every page read once,

@@ -87,6 +87,22 @@ struct Writer::Impl {
     if (pending() >= opt.batch_rows) wake.notify_one();
   }
 
+  // Queues one sample or event on `queue`, or counts it dropped (queue full, writer stopped).
+  template <class Item>
+  bool enqueue_one_locked(std::vector<Item>& queue, const Item& item) noexcept {
+    if (!accept_one_locked()) return false;
+    try {
+      queue.push_back(item);
+    } catch (...) {  // out of memory: count it dropped rather than throw into acquisition
+      --st.enqueued;
+      --accepted_items;
+      ++st.dropped;
+      return false;
+    }
+    after_accept_locked();
+    return true;
+  }
+
   void loop() {
     std::vector<Sample> batch;
     std::vector<EventRecord> batch_events;
@@ -271,17 +287,7 @@ Writer::~Writer() {
 
 bool Writer::enqueue(const Sample& sample) noexcept {
   std::lock_guard lk(impl_->mu);
-  if (!impl_->accept_one_locked()) return false;
-  try {
-    impl_->samples.push_back(sample);
-  } catch (...) {  // out of memory: count it dropped rather than throw into acquisition
-    --impl_->st.enqueued;
-    --impl_->accepted_items;
-    ++impl_->st.dropped;
-    return false;
-  }
-  impl_->after_accept_locked();
-  return true;
+  return impl_->enqueue_one_locked(impl_->samples, sample);
 }
 
 std::size_t Writer::enqueue(std::span<const Sample> samples) noexcept {
@@ -308,17 +314,7 @@ std::size_t Writer::enqueue(std::span<const Sample> samples) noexcept {
 
 bool Writer::enqueue(const EventRecord& event) noexcept {
   std::lock_guard lk(impl_->mu);
-  if (!impl_->accept_one_locked()) return false;
-  try {
-    impl_->events.push_back(event);
-  } catch (...) {
-    --impl_->st.enqueued;
-    --impl_->accepted_items;
-    ++impl_->st.dropped;
-    return false;
-  }
-  impl_->after_accept_locked();
-  return true;
+  return impl_->enqueue_one_locked(impl_->events, event);
 }
 
 void Writer::flush() {

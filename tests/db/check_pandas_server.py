@@ -6,39 +6,18 @@
       `power_W` is in UTC order
 Exits 1 with a message on stderr at the first failed check.
 """
-import re
 import sys
 
-
-def fail(message):
-    print(f"check_pandas_server: {message}", file=sys.stderr)
-    sys.exit(1)
-
-
-def example(markdown_path):
-    text = open(markdown_path, encoding="utf-8").read()
-    m = re.search(r"<!-- pandas-server-example -->\s*```python\n(.*?)```", text, re.S)
-    if not m:
-        fail(f"{markdown_path}: no python block after <!-- pandas-server-example -->")
-    return m.group(1)
+from docs_example import check_tables, fail, run_example
 
 
 def main():
     doc, db_uri, run_id, n_samples, n_steps = sys.argv[1:6]
-    scope = {"db_uri": db_uri, "run_id": int(run_id)}
-    exec(compile(example(doc), doc, "exec"), scope)
+    scope = run_example(doc, "pandas-server-example", {"db_uri": db_uri, "run_id": int(run_id)})
     if len(scope["series"]) != int(n_samples):
         fail(f"series has {len(scope['series'])} rows, expected {n_samples}")
-    steps = scope["steps"]
-    if list(steps["step"]) != list(range(1, int(n_steps) + 1)):
-        fail(f"steps {list(steps['step'])}, expected 1..{n_steps}")
-    if steps["measured_T"].isna().any():
-        fail("a completed step has no measured_T")
-    if not scope["power_W"].index.is_monotonic_increasing:
-        fail("power readings are not in UTC order")
-    if "power" not in scope["wide"].columns:
-        fail(f"wide table columns {list(scope['wide'].columns)}")
-    print(f"check_pandas_server: {len(scope['series'])} samples, {len(steps)} measured step(s)")
+    check_tables(scope, int(n_steps), "measured_T")
+    print(f"check_pandas_server: {len(scope['series'])} samples, {len(scope['steps'])} measured step(s)")
 
 
 if __name__ == "__main__":

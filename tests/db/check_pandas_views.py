@@ -6,29 +6,16 @@
       after a resume), and `steps` has STEPS rows numbered from 1
 Exits 1 with a message on stderr at the first failed check.
 """
-import re
 import sys
 
 import pandas as pd
 
-
-def fail(message):
-    print(f"check_pandas_views: {message}", file=sys.stderr)
-    sys.exit(1)
-
-
-def example(markdown_path):
-    text = open(markdown_path, encoding="utf-8").read()
-    m = re.search(r"<!-- pandas-example -->\s*```python\n(.*?)```", text, re.S)
-    if not m:
-        fail(f"{markdown_path}: no python block after <!-- pandas-example -->")
-    return m.group(1)
+from docs_example import check_tables, fail, run_example
 
 
 def main():
     doc, db_path, run_id, utc_ns, n_steps = sys.argv[1:6]
-    scope = {"db_path": db_path, "run_id": int(run_id)}
-    exec(compile(example(doc), doc, "exec"), scope)
+    scope = run_example(doc, "pandas-example", {"db_path": db_path, "run_id": int(run_id)})
     power = scope["power_W"]
     when = pd.Timestamp(int(utc_ns), unit="ns", tz="UTC")
     if when not in power.index:
@@ -36,16 +23,8 @@ def main():
         fail(f"no power reading at {when}; nearest {near} ({(near - when).total_seconds()} s off)")
     if abs(float(power.loc[when]) - 9e-4) > 1e-15:
         fail(f"power at {when} is {power.loc[when]}, not 9e-4")
-    if not power.index.is_monotonic_increasing:
-        fail("power readings are not in UTC order")
-    steps = scope["steps"]
-    if len(steps) != int(n_steps) or list(steps["step"]) != list(range(1, int(n_steps) + 1)):
-        fail(f"steps {list(steps['step'])}, expected 1..{n_steps}")
-    if steps["measured_T_se"].isna().any():
-        fail("a completed step has no measured_T_se")
-    if "power" not in scope["wide"].columns:
-        fail(f"wide table columns {list(scope['wide'].columns)}")
-    print(f"check_pandas_views: power at {when} = {power.loc[when]}, {len(steps)} measured step(s)")
+    check_tables(scope, int(n_steps), "measured_T_se")
+    print(f"check_pandas_views: power at {when} = {power.loc[when]}, {len(scope['steps'])} measured step(s)")
 
 
 if __name__ == "__main__":

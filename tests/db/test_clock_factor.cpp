@@ -11,16 +11,17 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
-#include "temp_dir.hpp"
+#include "raw_sqlite.hpp"
 #include "tocd/core/clock.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/db/writer.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace {
 
 using namespace tocd::db;
-using tocd::db::testing::TempDir;
+using tocd::test::TempDir;
 
 constexpr double kFactor = 10.0;
 constexpr std::int64_t kSecond = 1'000'000'000LL;
@@ -31,34 +32,35 @@ struct SeriesRow {
   double t_s = 0, clock_s = 0, clock_factor = 0;
 };
 std::vector<SeriesRow> series(const std::filesystem::path& path, std::int64_t run) {
-  sqlite3* raw = nullptr;
-  sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr);
-  sqlite3_stmt* s = nullptr;
   std::vector<SeriesRow> out;
   const std::string sql = fmt::format(
       "SELECT t_ns, utc_ns, t_s, clock_s, clock_factor FROM sample_series WHERE run_id = {} ORDER BY t_ns",
       run);
-  if (sqlite3_prepare_v2(raw, sql.c_str(), -1, &s, nullptr) != SQLITE_OK) {
-    ADD_FAILURE() << sqlite3_errmsg(raw);
-  } else {
-    while (sqlite3_step(s) == SQLITE_ROW)
-      out.push_back({sqlite3_column_int64(s, 0), sqlite3_column_int64(s, 1), sqlite3_column_double(s, 2),
-                     sqlite3_column_double(s, 3), sqlite3_column_double(s, 4)});
-  }
-  sqlite3_finalize(s);
-  sqlite3_close(raw);
+  tocd::db::testing::raw_for_each_row(path, sql, [&](sqlite3_stmt* s) {
+    out.push_back({sqlite3_column_int64(s, 0), sqlite3_column_int64(s, 1), sqlite3_column_double(s, 2),
+                   sqlite3_column_double(s, 3), sqlite3_column_double(s, 4)});
+  });
   return out;
 }
 
-TEST(DbClockFactor, UtcIsRealTimeAndTheRunClockIsItsOwnColumn) {
-  TempDir dir;
-  const auto path = dir / "lab.sqlite";
-  Database db(path);
+// A run in `db` whose clock runs kFactor times faster than real time, and its power channel.
+struct FastRun {
+  RunRecord run;
+  Channel power;
+};
+FastRun fast_run(Database& db) {
   NewRun nr;
   nr.clock_factor = kFactor;
   const RunRecord run = db.create_run(nr);
+  return {run, db.add_channel({0, run.id, "power", "W", 0, 10.0})};
+}
+
+TEST(DbClockFactor, UtcIsRealTimeAndTheRunClockIsItsOwnColumn) {
+  const TempDir dir("db_clock");
+  const auto path = dir / "lab.sqlite";
+  Database db(path);
+  const auto [run, power] = fast_run(db);
   EXPECT_DOUBLE_EQ(run.clock_factor, kFactor);
-  const Channel power = db.add_channel({0, run.id, "power", "W", 0, 10.0});
   // 20 s on the run's clock, one sample a second: 2 s of real time at factor 10.
   {
     Writer w(db);
@@ -84,13 +86,10 @@ TEST(DbClockFactor, UtcIsRealTimeAndTheRunClockIsItsOwnColumn) {
 }
 
 TEST(DbClockFactor, AResumedFastRunKeepsItsSamplesOrderedAndItsUtcReal) {
-  TempDir dir;
+  const TempDir dir("db_clock");
   const auto path = dir / "lab.sqlite";
   Database db(path);
-  NewRun nr;
-  nr.clock_factor = kFactor;
-  const RunRecord run = db.create_run(nr);
-  const Channel power = db.add_channel({0, run.id, "power", "W", 0, 10.0});
+  const auto [run, power] = fast_run(db);
   // 30 s on the run's clock (3 s of real time at factor 10) recorded within a few real ms:
   // the run clock is now well ahead of the monotonic clock.
   const std::int64_t last = run.monotonic_anchor_ns + 30 * kSecond;
@@ -129,7 +128,7 @@ TEST(DbClockFactor, AResumedFastRunKeepsItsSamplesOrderedAndItsUtcReal) {
 }
 
 TEST(DbClockFactor, AClockFactorThatIsNoPositiveNumberIsRefused) {
-  TempDir dir;
+  const TempDir dir("db_clock");
   Database db(dir / "lab.sqlite");
   for (const double bad : {0.0, -2.0, std::nan("")}) {
     NewRun nr;

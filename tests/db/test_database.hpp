@@ -13,7 +13,8 @@
 
 #include <unistd.h>
 
-#include "temp_dir.hpp"
+#include "tocd/db/database.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 #ifdef TOCD_DB_TEST_SERVER
 #include <libpq-fe.h>
@@ -50,7 +51,7 @@ class TestDatabase {
     return location_;
   }
   /// A scratch directory for the test's other files (exports, CSVs).
-  const TempDir& dir() const noexcept {
+  const tocd::test::TempDir& dir() const noexcept {
     return dir_;
   }
   static constexpr bool server() noexcept {
@@ -62,14 +63,31 @@ class TestDatabase {
   }
 
 #ifdef TOCD_DB_TEST_SERVER
-  /// Runs SQL on the server's maintenance database (PGHOST, PGPORT, PGUSER, PGPASSWORD from
-  /// the environment with_pg_server sets up).
+  /// The test's database on the server.
+  const std::string& name() const noexcept {
+    return name_;
+  }
+  /// Runs SQL on the test's database, as another client of the server would.
+  void exec(const std::string& sql) const {
+    run_sql(name_, sql);
+  }
+  /// Runs SQL on the server's maintenance database.
   static void admin(const std::string& sql) {
+    run_sql("postgres", sql);
+  }
+#endif
+
+ private:
+#ifdef TOCD_DB_TEST_SERVER
+  /// Runs SQL on database `dbname` of the server (PGHOST, PGPORT, PGUSER, PGPASSWORD from the
+  /// environment with_pg_server sets up); throws naming the SQL and the server's message.
+  static void run_sql(const std::string& dbname, const std::string& sql) {
     if (!std::getenv("PGPORT"))
       throw std::runtime_error(
           "no PostgreSQL test server: run this binary through tests/db/with_pg_server "
           "(ctest does)");
-    PGconn* c = PQconnectdb("dbname=postgres");
+    const std::string conninfo = "dbname=" + dbname;
+    PGconn* c = PQconnectdb(conninfo.c_str());
     PQsetNoticeProcessor(
         c, [](void*, const char*) {}, nullptr);  // "does not exist, skipping"
     std::string error;
@@ -86,10 +104,16 @@ class TestDatabase {
   }
 #endif
 
- private:
-  TempDir dir_;
+  tocd::test::TempDir dir_{"db_test"};
   std::string name_;
   std::string location_;
 };
+
+/// A new run in `db` with one channel `name` in `unit`: what a test records samples into.
+inline Channel run_with_channel(Database& db, const std::string& name, const std::string& unit,
+                                double nominal_rate_Hz = kUnset) {
+  const auto run = db.create_run({}).id;
+  return db.add_channel({0, run, name, unit, 0, nominal_rate_Hz});
+}
 
 }  // namespace tocd::db::testing

@@ -11,11 +11,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "raw_sqlite.hpp"
 #include "schema.hpp"
 #include "sqlite_util.hpp"
-#include "temp_dir.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace {
 
@@ -23,7 +24,7 @@ using ::testing::HasSubstr;
 using tocd::db::Database;
 using tocd::db::DatabaseError;
 using tocd::db::Reader;
-using tocd::db::testing::TempDir;
+using tocd::test::TempDir;
 
 void make_run(const std::filesystem::path& path, const std::string& name) {
   Database db(path);
@@ -36,7 +37,7 @@ void make_run(const std::filesystem::path& path, const std::string& name) {
 }  // namespace
 
 TEST(DbHardening, ConnectionsAreDefensiveWithUntrustedSchema) {
-  TempDir dir;
+  const TempDir dir("db_hardening");
   tocd::db::detail::Connection c(dir / "any.sqlite", SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
   int defensive = -1;
   ASSERT_EQ(sqlite3_db_config(c.get(), SQLITE_DBCONFIG_DEFENSIVE, -1, &defensive), SQLITE_OK);
@@ -49,7 +50,7 @@ TEST(DbHardening, ConnectionsAreDefensiveWithUntrustedSchema) {
 }
 
 TEST(DbHardening, WriterConfirmsWalAndReportsOtherModes) {
-  TempDir dir;
+  const TempDir dir("db_hardening");
   Database db(dir / "lab.sqlite");
   EXPECT_EQ(db.journal_mode(), "wal");
   // An in-memory database cannot use WAL: the mode in force is returned, not an error.
@@ -58,7 +59,7 @@ TEST(DbHardening, WriterConfirmsWalAndReportsOtherModes) {
 }
 
 TEST(DbHardening, HealthyFileOpensWithoutWarnings) {
-  TempDir dir;
+  const TempDir dir("db_hardening");
   make_run(dir / "lab.sqlite", "fine");
   const Reader reader(dir / "lab.sqlite");
   EXPECT_TRUE(reader.warnings().empty());
@@ -66,7 +67,7 @@ TEST(DbHardening, HealthyFileOpensWithoutWarnings) {
 }
 
 TEST(DbHardening, DamagedFileIsFlaggedOnOpen) {
-  TempDir dir;
+  const TempDir dir("db_hardening");
   const auto path = dir / "lab.sqlite";
   make_run(path, "before the damage");
   std::int64_t root = 0, page_size = 0;
@@ -150,17 +151,12 @@ std::string open_without_write_access(const std::filesystem::path& path) {
 }
 
 TEST(DbHardening, WalDatabaseInReadOnlyDirectoryOpensReadOnly) {
-  TempDir dir;
+  const TempDir dir("db_hardening");
   const auto path = dir / "lab.sqlite";
   make_run(path, "archived");
   // tocdlab's last writer leaves a file in rollback mode; one still in WAL mode (its writer was
   // killed, or an older tocdlab wrote it) is what needs the read-only open.
-  {
-    sqlite3* raw = nullptr;
-    ASSERT_EQ(sqlite3_open(path.c_str(), &raw), SQLITE_OK);
-    ASSERT_EQ(sqlite3_exec(raw, "PRAGMA journal_mode=WAL", nullptr, nullptr, nullptr), SQLITE_OK);
-    sqlite3_close(raw);
-  }
+  ASSERT_EQ(tocd::db::testing::raw_exec(path, "PRAGMA journal_mode=WAL"), "");
   ASSERT_FALSE(std::filesystem::exists(path.string() + "-shm"));  // removed on the last close
   std::filesystem::permissions(dir.path(), std::filesystem::perms(0755));
   std::filesystem::permissions(path, std::filesystem::perms(0644));
@@ -170,7 +166,7 @@ TEST(DbHardening, WalDatabaseInReadOnlyDirectoryOpensReadOnly) {
 // A file at rest (its last writer closed) is in rollback mode: a read-only directory is no
 // obstacle and needs no note, and nothing is written beside it.
 TEST(DbHardening, ADatabaseAtRestInAReadOnlyDirectoryOpensWithoutANote) {
-  TempDir dir;
+  const TempDir dir("db_hardening");
   const auto path = dir / "lab.sqlite";
   make_run(path, "archived");
   std::filesystem::permissions(dir.path(), std::filesystem::perms(0555));

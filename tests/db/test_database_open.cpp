@@ -1,25 +1,29 @@
 // Opening files: new files get the current schema; foreign, corrupt-looking and newer-schema
 // files are refused with a clear message and left byte-for-byte untouched.
 #include <filesystem>
-#include <fstream>
 #include <string>
+#include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <sqlite3.h>
 
-#include "temp_dir.hpp"
+#include "raw_sqlite.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/db/writer.hpp"
+#include "tocd/test/files.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace {
 
 using ::testing::HasSubstr;
 using tocd::db::Database;
 using tocd::db::DatabaseError;
-using tocd::db::testing::file_bytes;
-using tocd::db::testing::TempDir;
+using tocd::db::testing::raw_int;
+using tocd::db::testing::raw_rows;
+using tocd::test::read_file;
+using tocd::test::TempDir;
+using tocd::test::write_file;
 
 std::string error_of(const std::filesystem::path& p) {
   try {
@@ -32,26 +36,15 @@ std::string error_of(const std::filesystem::path& p) {
 
 // Creates an SQLite file with the raw C API (as another application would).
 void make_sqlite(const std::filesystem::path& p, const std::string& sql) {
-  sqlite3* db = nullptr;
-  ASSERT_EQ(sqlite3_open(p.c_str(), &db), SQLITE_OK);
-  ASSERT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, nullptr), SQLITE_OK) << sqlite3_errmsg(db);
-  sqlite3_close(db);
+  ASSERT_EQ(tocd::db::testing::raw_exec(p, sql), "");
 }
 
 std::int64_t pragma(const std::filesystem::path& p, const std::string& name) {
-  sqlite3* db = nullptr;
-  sqlite3_open_v2(p.c_str(), &db, SQLITE_OPEN_READONLY, nullptr);
-  sqlite3_stmt* s = nullptr;
-  sqlite3_prepare_v2(db, ("PRAGMA " + name).c_str(), -1, &s, nullptr);
-  std::int64_t v = -1;
-  if (sqlite3_step(s) == SQLITE_ROW) v = sqlite3_column_int64(s, 0);
-  sqlite3_finalize(s);
-  sqlite3_close(db);
-  return v;
+  return raw_int(p, "PRAGMA " + name);
 }
 
 TEST(DbOpen, NewFileGetsCurrentSchemaIdentityAndWal) {
-  TempDir dir;
+  const TempDir dir("db_open");
   const auto path = dir / "lab.sqlite";
   {
     Database db = Database::open(path);
@@ -71,14 +64,7 @@ TEST(DbOpen, NewFileGetsCurrentSchemaIdentityAndWal) {
   }
   EXPECT_FALSE(std::filesystem::exists(path.string() + "-wal"));
   EXPECT_FALSE(std::filesystem::exists(path.string() + "-shm"));
-  sqlite3* raw = nullptr;
-  sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr);
-  sqlite3_stmt* s = nullptr;
-  sqlite3_prepare_v2(raw, "PRAGMA journal_mode", -1, &s, nullptr);
-  ASSERT_EQ(sqlite3_step(s), SQLITE_ROW);
-  EXPECT_STREQ(reinterpret_cast<const char*>(sqlite3_column_text(s, 0)), "delete");
-  sqlite3_finalize(s);
-  sqlite3_close(raw);
+  EXPECT_EQ(raw_rows(path, "PRAGMA journal_mode"), (std::vector<std::vector<std::string>>{{"delete"}}));
   // Reopening is a no-op migration, keeps the version and turns WAL on again.
   Database again(path);
   EXPECT_EQ(again.schema_version(), Database::kSchemaVersion);
@@ -86,28 +72,22 @@ TEST(DbOpen, NewFileGetsCurrentSchemaIdentityAndWal) {
 }
 
 TEST(DbOpen, EveryDocumentedTableExists) {
-  TempDir dir;
+  const TempDir dir("db_open");
   const auto path = dir / "lab.sqlite";
   { Database db(path); }
   for (const char* table : {"meta", "instruments", "specimens", "runs", "run_anchors", "channels", "samples",
                             "steps", "step_channel_stats", "events", "predictions"}) {
-    sqlite3* raw = nullptr;
-    sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr);
-    sqlite3_stmt* s = nullptr;
-    sqlite3_prepare_v2(raw, "SELECT count(*) FROM sqlite_master WHERE type='table' AND name=?", -1, &s,
-                       nullptr);
-    sqlite3_bind_text(s, 1, table, -1, SQLITE_STATIC);
-    ASSERT_EQ(sqlite3_step(s), SQLITE_ROW);
-    EXPECT_EQ(sqlite3_column_int(s, 0), 1) << table;
-    sqlite3_finalize(s);
-    sqlite3_close(raw);
+    EXPECT_EQ(raw_int(path, std::string("SELECT count(*) FROM sqlite_master WHERE type='table' AND name='") +
+                                table + "'"),
+              1)
+        << table;
   }
 }
 
 TEST(DbOpen, EmptyFileAndEmptySqliteFileAreInitialised) {
-  TempDir dir;
+  const TempDir dir("db_open");
   const auto empty = dir / "empty.sqlite";
-  std::ofstream(empty).close();
+  ASSERT_TRUE(write_file(empty, ""));
   EXPECT_EQ(Database(empty).schema_version(), Database::kSchemaVersion);
   const auto blank = dir / "blank.sqlite";
   make_sqlite(blank, "PRAGMA user_version = 0");
@@ -116,7 +96,7 @@ TEST(DbOpen, EmptyFileAndEmptySqliteFileAreInitialised) {
 
 TEST(DbOpen, PartlyInitialisedTocdlabFileIsMigrated) {
   // application_id set, user_version 0 (e.g. a creation cut off before the first migration).
-  TempDir dir;
+  const TempDir dir("db_open");
   const auto path = dir / "partial.sqlite";
   make_sqlite(path, "PRAGMA application_id = " + std::to_string(Database::kApplicationId));
   Database db(path);
@@ -125,56 +105,56 @@ TEST(DbOpen, PartlyInitialisedTocdlabFileIsMigrated) {
 }
 
 TEST(DbOpen, TextFileIsRefusedAndUntouched) {
-  TempDir dir;
+  const TempDir dir("db_open");
   const auto path = dir / "notes.sqlite";
-  std::ofstream(path) << "step,load\n1,2.5\n this is a CSV, not a database\n";
-  const std::string before = file_bytes(path);
+  ASSERT_TRUE(write_file(path, "step,load\n1,2.5\n this is a CSV, not a database\n"));
+  const std::string before = read_file(path);
   const std::string msg = error_of(path);
   EXPECT_THAT(msg, HasSubstr("is not a tocdlab database"));
   EXPECT_THAT(msg, HasSubstr(path.string()));
-  EXPECT_EQ(file_bytes(path), before);
+  EXPECT_EQ(read_file(path), before);
   EXPECT_FALSE(std::filesystem::exists(path.string() + "-wal"));
   EXPECT_THROW(tocd::db::Reader{path}, DatabaseError);
   EXPECT_THROW(tocd::db::Writer{path}, DatabaseError);
-  EXPECT_EQ(file_bytes(path), before);
+  EXPECT_EQ(read_file(path), before);
 }
 
 TEST(DbOpen, OtherApplicationsSqliteFileIsRefusedAndUntouched) {
-  TempDir dir;
+  const TempDir dir("db_open");
   const auto path = dir / "other.sqlite";
   make_sqlite(path,
               "CREATE TABLE photos(id INTEGER PRIMARY KEY, name TEXT); INSERT INTO photos VALUES(1, 'a');");
-  const std::string before = file_bytes(path);
+  const std::string before = read_file(path);
   const std::string msg = error_of(path);
   EXPECT_THAT(msg, HasSubstr("SQLite database of another application"));
   EXPECT_THAT(msg, HasSubstr("left untouched"));
-  EXPECT_EQ(file_bytes(path), before);
+  EXPECT_EQ(read_file(path), before);
   // Also with a foreign application id and no tables.
   const auto tagged = dir / "tagged.sqlite";
   make_sqlite(tagged, "PRAGMA application_id = 1234");
-  const std::string tagged_before = file_bytes(tagged);
+  const std::string tagged_before = read_file(tagged);
   EXPECT_THAT(error_of(tagged), HasSubstr("application_id 0x000004D2"));
-  EXPECT_EQ(file_bytes(tagged), tagged_before);
+  EXPECT_EQ(read_file(tagged), tagged_before);
 }
 
 TEST(DbOpen, NewerSchemaIsRefusedAndUntouched) {
-  TempDir dir;
+  const TempDir dir("db_open");
   const auto path = dir / "future.sqlite";
   { Database db(path); }
   make_sqlite(path, "PRAGMA user_version = " + std::to_string(Database::kSchemaVersion + 7));
-  const std::string before = file_bytes(path);
+  const std::string before = read_file(path);
   const std::string msg = error_of(path);
   EXPECT_THAT(msg, HasSubstr("newer tocdlab"));
   EXPECT_THAT(msg, HasSubstr("schema version " + std::to_string(Database::kSchemaVersion + 7)));
-  EXPECT_EQ(file_bytes(path), before);
+  EXPECT_EQ(read_file(path), before);
   EXPECT_THROW(tocd::db::Reader{path}, DatabaseError);
   EXPECT_THROW(tocd::db::Writer{path}, DatabaseError);
-  EXPECT_EQ(file_bytes(path), before);
+  EXPECT_EQ(read_file(path), before);
 }
 
 TEST(DbOpen, UnopenablePathsAreDatabaseErrors) {
   EXPECT_THROW(Database("/nonexistent-dir/x/y.sqlite"), DatabaseError);
-  TempDir dir;
+  const TempDir dir("db_open");
   EXPECT_THAT(error_of(dir.path()), HasSubstr("not a regular file"));
   EXPECT_THROW(tocd::db::Reader{dir / "absent.sqlite"}, DatabaseError);
   EXPECT_FALSE(std::filesystem::exists(dir / "absent.sqlite"));

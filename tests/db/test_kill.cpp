@@ -11,16 +11,16 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "temp_dir.hpp"
 #include "tocd/core/clock.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/db/writer.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace {
 
 using namespace tocd::db;
-using tocd::db::testing::TempDir;
+using tocd::test::TempDir;
 
 constexpr std::int64_t kBoundNs = 500'000'000;  // 0.5 s
 
@@ -57,7 +57,7 @@ struct Report {
 }
 
 TEST(DbKill, SigkillMidRunLosesNothingOlderThanTheBound) {
-  TempDir dir;
+  const TempDir dir("db_kill");
   const auto path = dir / "lab.sqlite";
   int fds[2];
   ASSERT_EQ(::pipe(fds), 0);

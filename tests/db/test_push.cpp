@@ -5,9 +5,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdlib>
-#include <fstream>
 #include <regex>
-#include <sstream>
 #include <thread>
 
 #include <gmock/gmock.h>
@@ -19,13 +17,15 @@
 #include "tocd/db/push.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/db/writer.hpp"
+#include "tocd/test/files.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace {
 
 using namespace tocd::db;
 using ::testing::HasSubstr;
-using tocd::db::testing::TempDir;
 using tocd::db::testing::TestDatabase;
+using tocd::test::TempDir;
 
 // A finished run with `samples` samples on two channels, steps, events and a prediction.
 std::int64_t record_run(Database& db, std::int64_t samples, RunStatus end = RunStatus::completed) {
@@ -95,90 +95,100 @@ void expect_server_mirrors(const std::string& file, const std::string& server) {
   }
 }
 
-TEST(DbPush, EachRunArrivesOnceAndASecondPushAddsNothing) {
-  TempDir dir;
-  TestDatabase server;
-  const auto file = (dir / "local.db").string();
+// The error push_runs(file, target) fails with; a test failure when it succeeds.
+std::string push_error(const std::string& file, const std::string& target) {
+  try {
+    push_runs(file, target);
+  } catch (const DatabaseError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "the push to '" << target << "' succeeded";
+  return "";
+}
+
+// A rig's local file and a fresh database on the test server for it to push to.
+class PushTest : public ::testing::Test {
+ protected:
+  // Records a finished run into the local file; its id there.
+  std::int64_t record_local(std::int64_t samples, RunStatus end = RunStatus::completed) {
+    Database db(file_);
+    return record_run(db, samples, end);
+  }
+
+  TempDir dir_{"db_push"};
+  TestDatabase server_;
+  const std::string file_ = (dir_ / "local.db").string();
+};
+using DbPush = PushTest;
+using DbPushFault = PushTest;
+using DbRoles = PushTest;
+using DbPandasServer = PushTest;
+
+TEST_F(DbPush, EachRunArrivesOnceAndASecondPushAddsNothing) {
   {
-    Database db(file);
+    Database db(file_);
     record_run(db, 5000);
     record_run(db, 3000, RunStatus::aborted);
   }
-  const auto first = push_runs(file, server.location());
+  const auto first = push_runs(file_, server_.location());
   ASSERT_EQ(first.size(), 2u);
   for (const auto& r : first) EXPECT_EQ(r.action, PushAction::copied);
-  expect_server_mirrors(file, server.location());
-  const auto second = push_runs(file, server.location());
+  expect_server_mirrors(file_, server_.location());
+  const auto second = push_runs(file_, server_.location());
   for (const auto& r : second) {
     EXPECT_EQ(r.action, PushAction::unchanged);
     EXPECT_EQ(r.server_id, first[static_cast<std::size_t>(&r - second.data())].server_id);
   }
-  EXPECT_EQ(Reader(server.location()).runs().size(), 2u);
-  expect_server_mirrors(file, server.location());
+  EXPECT_EQ(Reader(server_.location()).runs().size(), 2u);
+  expect_server_mirrors(file_, server_.location());
 }
 
-TEST(DbPush, AnInterruptedRunArrivesInterruptedAndItsResumeFollows) {
-  TempDir dir;
-  TestDatabase server;
-  const auto file = (dir / "local.db").string();
-  std::int64_t run = 0;
-  {
-    Database db(file);
-    run = record_run(db, 2000, RunStatus::running);  // closed while running: a crash
-  }
-  auto pushed = push_runs(file, server.location());
+TEST_F(DbPush, AnInterruptedRunArrivesInterruptedAndItsResumeFollows) {
+  const std::int64_t run = record_local(2000, RunStatus::running);  // closed while running: a crash
+  auto pushed = push_runs(file_, server_.location());
   ASSERT_EQ(pushed.size(), 1u);
   EXPECT_EQ(pushed[0].status, "interrupted");
   const auto server_id = pushed[0].server_id;
-  EXPECT_EQ(Reader(server.location()).run(server_id).status, RunStatus::interrupted);
+  EXPECT_EQ(Reader(server_.location()).run(server_id).status, RunStatus::interrupted);
   {
-    Database db(file);  // marks it interrupted in the file too
+    Database db(file_);  // marks it interrupted in the file too
     const auto resumed = db.resume_run(run);
-    const auto ch = Reader(file).channel(run, "load")->id;
+    const auto ch = Reader(file_).channel(run, "load")->id;
     {
       Writer w(db);
       for (int i = 0; i < 700; ++i) w.enqueue(Sample{ch, resumed.gap_to_t_ns + 1000 * i, 1.0});
     }
     db.set_run_status(run, RunStatus::completed);
   }
-  pushed = push_runs(file, server.location());
+  pushed = push_runs(file_, server_.location());
   ASSERT_EQ(pushed.size(), 1u);
   EXPECT_EQ(pushed[0].action, PushAction::updated);
   EXPECT_EQ(pushed[0].server_id, server_id);  // the same run on the server, now whole
-  const Reader remote(server.location());
+  const Reader remote(server_.location());
   EXPECT_EQ(remote.run(server_id).status, RunStatus::completed);
   EXPECT_EQ(remote.anchors(server_id).size(), 2u);
   EXPECT_EQ(samples_of(remote, server_id), 2700);
-  expect_server_mirrors(file, server.location());
+  expect_server_mirrors(file_, server_.location());
 }
 
-TEST(DbPush, ARunStillRecordingIsLeftForALaterPush) {
-  TempDir dir;
-  TestDatabase server;
-  const auto file = (dir / "local.db").string();
-  Database db(file);
+TEST_F(DbPush, ARunStillRecordingIsLeftForALaterPush) {
+  Database db(file_);
   const auto run = record_run(db, 100, RunStatus::running);
-  auto pushed = push_runs(file, server.location());
+  auto pushed = push_runs(file_, server_.location());
   ASSERT_EQ(pushed.size(), 1u);
   EXPECT_EQ(pushed[0].action, PushAction::skipped);
-  EXPECT_TRUE(Reader(server.location()).runs().empty());
+  EXPECT_TRUE(Reader(server_.location()).runs().empty());
   db.set_run_status(run, RunStatus::completed);
-  pushed = push_runs(file, server.location());
+  pushed = push_runs(file_, server_.location());
   EXPECT_EQ(pushed[0].action, PushAction::copied);
-  expect_server_mirrors(file, server.location());
+  expect_server_mirrors(file_, server_.location());
 }
 
-TEST(DbPush, TwoPushesOfTheSameFileAtOnceStoreEachRunOnce) {
-  TempDir dir;
-  TestDatabase server;
-  const auto file = (dir / "local.db").string();
-  {
-    Database db(file);
-    for (int i = 0; i < 3; ++i) record_run(db, 20000);
-  }
+TEST_F(DbPush, TwoPushesOfTheSameFileAtOnceStoreEachRunOnce) {
+  for (int i = 0; i < 3; ++i) record_local(20000);
   std::vector<PushedRun> a, b;
-  std::thread t1([&] { a = push_runs(file, server.location()); });
-  std::thread t2([&] { b = push_runs(file, server.location()); });
+  std::thread t1([&] { a = push_runs(file_, server_.location()); });
+  std::thread t2([&] { b = push_runs(file_, server_.location()); });
   t1.join();
   t2.join();
   ASSERT_EQ(a.size(), 3u);
@@ -188,70 +198,32 @@ TEST(DbPush, TwoPushesOfTheSameFileAtOnceStoreEachRunOnce) {
     EXPECT_EQ((a[i].action == PushAction::copied) + (b[i].action == PushAction::copied), 1);
     EXPECT_EQ(a[i].server_id, b[i].server_id);
   }
-  expect_server_mirrors(file, server.location());
+  expect_server_mirrors(file_, server_.location());
 }
 
-TEST(DbPush, BadTargetsAreRefusedNamingWhatIsWrong) {
-  TempDir dir;
-  const auto file = (dir / "local.db").string();
-  {
-    Database db(file);
-    record_run(db, 10);
-  }
-  const auto before = tocd::db::testing::file_bytes(file);
-  try {
-    push_runs(file, "postgresql://127.0.0.1:1/lab");  // nobody listens on port 1
-    FAIL() << "push to a server that is down succeeded";
-  } catch (const DatabaseError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("cannot connect to PostgreSQL at 'postgresql://127.0.0.1:1/lab'"));
-  }
-  try {
-    push_runs(file, "postgresql://tocd:secret@127.0.0.1:1/lab");
-    FAIL() << "push succeeded";
-  } catch (const DatabaseError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("postgresql://tocd:***@127.0.0.1:1/lab"));
-    EXPECT_THAT(e.what(), ::testing::Not(HasSubstr("secret")));
-  }
-  EXPECT_THROW(push_runs(file, "lab.db"), DatabaseError);
+TEST_F(DbPush, BadTargetsAreRefusedNamingWhatIsWrong) {
+  record_local(10);
+  const auto before = tocd::test::read_file(file_);
+  // Nobody listens on port 1.
+  EXPECT_THAT(push_error(file_, "postgresql://127.0.0.1:1/lab"),
+              HasSubstr("cannot connect to PostgreSQL at 'postgresql://127.0.0.1:1/lab'"));
+  const std::string with_password = push_error(file_, "postgresql://tocd:secret@127.0.0.1:1/lab");
+  EXPECT_THAT(with_password, HasSubstr("postgresql://tocd:***@127.0.0.1:1/lab"));
+  EXPECT_THAT(with_password, ::testing::Not(HasSubstr("secret")));
+  EXPECT_THROW(push_runs(file_, "lab.db"), DatabaseError);
   // A URI libpq cannot parse, and a user the server does not know: said, naming the server.
-  try {
-    push_runs(file, "postgresql://localhost:notaport/lab");
-    FAIL() << "push to a malformed URI succeeded";
-  } catch (const DatabaseError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("cannot connect to PostgreSQL at 'postgresql://localhost:notaport/lab'"));
-    EXPECT_THAT(e.what(), HasSubstr("port"));
-  }
-  try {
-    push_runs(file, "postgresql://no_such_user@/postgres");
-    FAIL() << "push as an unknown user succeeded";
-  } catch (const DatabaseError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("authentication failed for user \"no_such_user\""));
-  }
-  EXPECT_EQ(tocd::db::testing::file_bytes(file), before);  // the file is only read
+  const std::string bad_port = push_error(file_, "postgresql://localhost:notaport/lab");
+  EXPECT_THAT(bad_port, HasSubstr("cannot connect to PostgreSQL at 'postgresql://localhost:notaport/lab'"));
+  EXPECT_THAT(bad_port, HasSubstr("port"));
+  EXPECT_THAT(push_error(file_, "postgresql://no_such_user@/postgres"),
+              HasSubstr("authentication failed for user \"no_such_user\""));
+  EXPECT_EQ(tocd::test::read_file(file_), before);  // the file is only read
 }
 
-TEST(DbPush, AServerDatabaseOfAnotherApplicationIsLeftUntouched) {
-  TempDir dir;
-  TestDatabase server;
-  const auto file = (dir / "local.db").string();
-  {
-    Database db(file);
-    record_run(db, 10);
-  }
-  {
-    // Another application's table in the server database.
-    const std::string name = server.location().substr(std::string("postgresql:///").size());
-    const std::string conninfo = "dbname=" + name;
-    PGconn* c = PQconnectdb(conninfo.c_str());
-    PQclear(PQexec(c, "CREATE TABLE orders(id int)"));
-    PQfinish(c);
-  }
-  try {
-    push_runs(file, server.location());
-    FAIL() << "pushed into another application's database";
-  } catch (const DatabaseError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("not a tocdlab database"));
-  }
+TEST_F(DbPush, AServerDatabaseOfAnotherApplicationIsLeftUntouched) {
+  record_local(10);
+  server_.exec("CREATE TABLE orders(id int)");  // another application's table
+  EXPECT_THAT(push_error(file_, server_.location()), HasSubstr("not a tocdlab database"));
 }
 
 // The server's cluster, stopped and started as its administrator would (pg_virtualenv's
@@ -263,19 +235,13 @@ void server_ctl(const char* action) {
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
 }
 
-TEST(DbPushFault, ServerKilledMidPushLeavesNoHalfRunAndTheNextPushCompletesIt) {
-  TempDir dir;
-  TestDatabase server;
-  const auto file = (dir / "local.db").string();
-  {
-    Database db(file);
-    for (int i = 0; i < 4; ++i) record_run(db, 300000);
-  }
+TEST_F(DbPushFault, ServerKilledMidPushLeavesNoHalfRunAndTheNextPushCompletesIt) {
+  for (int i = 0; i < 4; ++i) record_local(300000);
   std::atomic<bool> done{false};
   std::string error;
   std::thread pusher([&] {
     try {
-      push_runs(file, server.location());
+      push_runs(file_, server_.location());
     } catch (const DatabaseError& e) {
       error = e.what();
     }
@@ -286,7 +252,7 @@ TEST(DbPushFault, ServerKilledMidPushLeavesNoHalfRunAndTheNextPushCompletesIt) {
   for (int i = 0; i < 600 && !done; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     try {
-      if (!Reader(server.location()).runs().empty()) break;
+      if (!Reader(server_.location()).runs().empty()) break;
     } catch (const DatabaseError&) {  // schema not there yet
     }
   }
@@ -297,7 +263,7 @@ TEST(DbPushFault, ServerKilledMidPushLeavesNoHalfRunAndTheNextPushCompletesIt) {
   server_ctl("start");
   // What the server kept: whole runs only.
   {
-    const Reader local(file), remote(server.location());
+    const Reader local(file_), remote(server_.location());
     const auto there = remote.runs(), here = local.runs();
     EXPECT_LT(there.size(), 4u);
     for (const auto& t : there) {
@@ -306,76 +272,50 @@ TEST(DbPushFault, ServerKilledMidPushLeavesNoHalfRunAndTheNextPushCompletesIt) {
       EXPECT_EQ(samples_of(remote, t.run.id), samples_of(local, s->run.id));
     }
   }
-  const auto again = push_runs(file, server.location());
+  const auto again = push_runs(file_, server_.location());
   int copied = 0;
   for (const auto& r : again) copied += r.action == PushAction::copied;
   EXPECT_GE(copied, 1);
-  expect_server_mirrors(file, server.location());
+  expect_server_mirrors(file_, server_.location());
 }
 
-TEST(DbPushFault, ARigRecordsLocallyWhileTheServerIsDownAndPushesLater) {
-  TempDir dir;
-  TestDatabase server;
-  const auto file = (dir / "local.db").string();
+TEST_F(DbPushFault, ARigRecordsLocallyWhileTheServerIsDownAndPushesLater) {
   server_ctl("stop -m fast");
-  {
-    Database db(file);
-    record_run(db, 1000);
-  }
-  EXPECT_THROW(push_runs(file, server.location()), DatabaseError);
+  record_local(1000);
+  EXPECT_THROW(push_runs(file_, server_.location()), DatabaseError);
   server_ctl("start");
-  const auto pushed = push_runs(file, server.location());
+  const auto pushed = push_runs(file_, server_.location());
   ASSERT_EQ(pushed.size(), 1u);
   EXPECT_EQ(pushed[0].action, PushAction::copied);
-  expect_server_mirrors(file, server.location());
+  expect_server_mirrors(file_, server_.location());
 }
 
 // docs/database.md's roles block, as written.
 std::string roles_sql() {
-  std::ifstream in(TOCD_DATABASE_MD);
-  std::stringstream ss;
-  ss << in.rdbuf();
   std::smatch m;
-  const std::string text = ss.str();
+  const std::string text = tocd::test::read_file(TOCD_DATABASE_MD);
   if (!std::regex_search(text, m, std::regex("<!-- roles-sql -->\\s*```sql\\n([\\s\\S]*?)```"))) return "";
   return m[1];
 }
 
-TEST(DbRoles, TheRigWritesTheAnalystOnlyReads) {
-  TempDir dir;
-  TestDatabase server;
-  const auto file = (dir / "local.db").string();
-  {
-    Database db(file);
-    record_run(db, 1000);
-  }
-  push_runs(file, server.location());  // the owner creates the schema
+TEST_F(DbRoles, TheRigWritesTheAnalystOnlyReads) {
+  record_local(1000);
+  push_runs(file_, server_.location());  // the owner creates the schema
   const std::string sql = roles_sql();
   ASSERT_FALSE(sql.empty()) << "no ```sql block after <!-- roles-sql --> in " << TOCD_DATABASE_MD;
-  const std::string name = server.location().substr(std::string("postgresql:///").size());
+  const std::string& name = server_.name();
   const std::string pw = std::getenv("PGPASSWORD");
   TestDatabase::admin("DROP ROLE IF EXISTS tocd_rig; DROP ROLE IF EXISTS tocd_analyst");
-  {
-    const std::string conninfo = "dbname=" + name;
-    PGconn* c = PQconnectdb(conninfo.c_str());
-    PGresult* r = PQexec(c, (sql + "; ALTER ROLE tocd_rig PASSWORD '" + pw +
-                             "'; ALTER ROLE tocd_analyst PASSWORD '" + pw + "'")
-                                .c_str());
-    ASSERT_EQ(PQresultStatus(r), PGRES_COMMAND_OK) << PQerrorMessage(c);
-    PQclear(r);
-    PQfinish(c);
-  }
+  server_.exec(sql + "; ALTER ROLE tocd_rig PASSWORD '" + pw + "'; ALTER ROLE tocd_analyst PASSWORD '" + pw +
+               "'");
   const std::string rig = "postgresql://tocd_rig@/" + name, analyst = "postgresql://tocd_analyst@/" + name;
   // The rig records into the server directly and pushes.
   {
     Database db(rig);
     record_run(db, 500);
   }
-  {
-    Database db(file);
-    record_run(db, 700);
-  }
-  push_runs(file, rig);
+  record_local(700);
+  push_runs(file_, rig);
   // The analyst reads everything...
   const Reader reader(analyst);
   const auto runs = reader.runs();
@@ -389,30 +329,21 @@ TEST(DbRoles, TheRigWritesTheAnalystOnlyReads) {
   } catch (const DatabaseError& e) {
     EXPECT_THAT(e.what(), HasSubstr("permission denied"));
   }
-  {
-    Database db(file);
-    record_run(db, 10);
-  }
-  EXPECT_THROW(push_runs(file, analyst), DatabaseError);
-  EXPECT_EQ(Reader(server.location()).runs().size(), 3u);
-  EXPECT_EQ(Reader(server.location()).run(runs[0].run.id).status, RunStatus::completed);
+  record_local(10);
+  EXPECT_THROW(push_runs(file_, analyst), DatabaseError);
+  EXPECT_EQ(Reader(server_.location()).runs().size(), 3u);
+  EXPECT_EQ(Reader(server_.location()).run(runs[0].run.id).status, RunStatus::completed);
 }
 
 }  // namespace
 
 namespace {
 
-TEST(DbPandasServer, TheDocumentedReadSqlExampleReadsThePushedRun) {
-  TempDir dir;
-  TestDatabase server;
-  const auto file = (dir / "local.db").string();
-  {
-    Database db(file);
-    record_run(db, 4000);
-  }
-  const auto pushed = push_runs(file, server.location());
+TEST_F(DbPandasServer, TheDocumentedReadSqlExampleReadsThePushedRun) {
+  record_local(4000);
+  const auto pushed = push_runs(file_, server_.location());
   const std::string cmd = std::string(TOCD_SYSTEM_PYTHON) + " " + TOCD_PANDAS_SERVER_CHECK + " " +
-                          TOCD_DATABASE_MD + " '" + server.location() + "' " +
+                          TOCD_DATABASE_MD + " '" + server_.location() + "' " +
                           std::to_string(pushed[0].server_id) + " 4000 1";
   EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
 }

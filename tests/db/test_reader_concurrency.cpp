@@ -18,14 +18,15 @@
 namespace {
 
 using namespace tocd::db;
+using tocd::db::testing::run_with_channel;
 using tocd::db::testing::TestDatabase;
 
 TEST(DbConcurrency, ReadersSeeCommittedPrefixesWhileTheWriterWrites) {
   TestDatabase dir;
   const auto path = dir.location();
   Database db(path);
-  const auto run = db.create_run({}).id;
-  const auto ch = db.add_channel({0, run, "load", "N", 0, 1000.0});
+  const Channel ch = run_with_channel(db, "load", "N", 1000.0);
+  const auto run = ch.run_id;
   Writer w(db, {.batch_interval = std::chrono::milliseconds(5),
                 .batch_rows = 2000,
                 .queue_capacity = 1'000'000,
@@ -87,12 +88,18 @@ class DbDecimation : public ::testing::Test {
  protected:
   void SetUp() override {
     db_ = std::make_unique<Database>(dir_.location());
-    const auto run = db_->create_run({}).id;
-    ch_ = db_->add_channel({0, run, "load", "N", 0, kUnset}).id;
+    ch_ = run_with_channel(*db_, "load", "N").id;
     Writer w(*db_);
     for (int i = 0; i < kN; ++i) w.enqueue(Sample{ch_, 1000 + 10 * i, value(i)});
   }
   static double value(int i) { return std::sin(0.01 * i) + (i == 4321 ? 50.0 : 0.0); }  // one spike
+  // All of the channel, decimated to at most `max_points` by `decimation`, as a reader reads it.
+  std::vector<Sample> decimated(Decimation decimation, std::size_t max_points) const {
+    SampleQuery q;
+    q.decimation = decimation;
+    q.max_points = max_points;
+    return Reader(dir_.location()).samples(ch_, q);
+  }
   static constexpr int kN = 10000;
   TestDatabase dir_;
   std::unique_ptr<Database> db_;
@@ -113,11 +120,7 @@ TEST_F(DbDecimation, TimeRangeIsInclusive) {
 }
 
 TEST_F(DbDecimation, MeanBucketsMatchADirectComputation) {
-  Reader rd(dir_.location());
-  SampleQuery q;
-  q.decimation = Decimation::mean;
-  q.max_points = 100;
-  const auto got = rd.samples(ch_, q);
+  const auto got = decimated(Decimation::mean, 100);
   ASSERT_LE(got.size(), 100u);
   ASSERT_GE(got.size(), 90u);
   // Same buckets computed here: width = span / buckets + 1 over [t_min, t_max].
@@ -142,11 +145,7 @@ TEST_F(DbDecimation, MeanBucketsMatchADirectComputation) {
 }
 
 TEST_F(DbDecimation, MinMaxKeepsTheSpikeAndTheRange) {
-  Reader rd(dir_.location());
-  SampleQuery q;
-  q.decimation = Decimation::min_max;
-  q.max_points = 200;
-  const auto got = rd.samples(ch_, q);
+  const auto got = decimated(Decimation::min_max, 200);
   ASSERT_LE(got.size(), 200u);
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (int i = 0; i < kN; ++i) {
@@ -167,8 +166,7 @@ TEST_F(DbDecimation, MinMaxKeepsTheSpikeAndTheRange) {
   EXPECT_EQ(ghi, hi);
   EXPECT_TRUE(spike_at_its_time);
   // Fewer samples than max_points: returned as they are.
-  q.max_points = 1'000'000;
-  EXPECT_EQ(rd.samples(ch_, q).size(), static_cast<std::size_t>(kN));
+  EXPECT_EQ(decimated(Decimation::min_max, 1'000'000).size(), static_cast<std::size_t>(kN));
 }
 
 }  // namespace

@@ -10,60 +10,26 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-#include <sqlite3.h>
 #include <unistd.h>
 
-#include "temp_dir.hpp"
+#include "raw_sqlite.hpp"
 #include "tocd/core/clock.hpp"
 #include "tocd/core/version.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/export.hpp"
 #include "tocd/db/writer.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace {
 
 using namespace tocd::db;
-using tocd::db::testing::TempDir;
+using tocd::db::testing::raw_rows;
+using tocd::test::TempDir;
 
 // The wall clock was stepped by this much between the run's first segment and its resume
 // (an NTP correction, or the machine's clock set by hand): UTC after the resume must follow
 // the resume's own anchor, not the first one.
 constexpr std::int64_t kWallStepNs = 3'600'000'000'000LL + 123'456'789LL;
-
-void exec(const std::filesystem::path& path, const std::string& sql) {
-  sqlite3* raw = nullptr;
-  ASSERT_EQ(sqlite3_open(path.c_str(), &raw), SQLITE_OK);
-  char* err = nullptr;
-  const int rc = sqlite3_exec(raw, sql.c_str(), nullptr, nullptr, &err);
-  const std::string msg = err ? err : "";
-  sqlite3_free(err);
-  sqlite3_close(raw);
-  ASSERT_EQ(rc, SQLITE_OK) << msg;
-}
-
-// Rows of a query as text, NULL as "NULL".
-std::vector<std::vector<std::string>> query(const std::filesystem::path& path, const std::string& sql) {
-  sqlite3* raw = nullptr;
-  sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr);
-  sqlite3_stmt* s = nullptr;
-  std::vector<std::vector<std::string>> out;
-  if (sqlite3_prepare_v2(raw, sql.c_str(), -1, &s, nullptr) != SQLITE_OK) {
-    ADD_FAILURE() << sqlite3_errmsg(raw) << " in " << sql;
-    sqlite3_close(raw);
-    return out;
-  }
-  while (sqlite3_step(s) == SQLITE_ROW) {
-    std::vector<std::string> row;
-    for (int i = 0; i < sqlite3_column_count(s); ++i) {
-      const auto* t = sqlite3_column_text(s, i);
-      row.push_back(t ? reinterpret_cast<const char*>(t) : "NULL");
-    }
-    out.push_back(std::move(row));
-  }
-  sqlite3_finalize(s);
-  sqlite3_close(raw);
-  return out;
-}
 
 class DbViews : public ::testing::Test {
  protected:
@@ -118,9 +84,13 @@ class DbViews : public ::testing::Test {
     }
     db.add_event({0, run_.id, resume_.gap_to_t_ns + 2'000'000, "operator", "after resume", 1, ""});
     db.set_run_status(run_.id, RunStatus::completed);
-    exec(path_, fmt::format(
-                    "UPDATE run_anchors SET wall_utc_ns = wall_utc_ns + {} WHERE run_id = {} AND segment = 1",
-                    kWallStepNs, run_.id));
+    ASSERT_EQ(
+        tocd::db::testing::raw_exec(
+            path_,
+            fmt::format(
+                "UPDATE run_anchors SET wall_utc_ns = wall_utc_ns + {} WHERE run_id = {} AND segment = 1",
+                kWallStepNs, run_.id)),
+        "");
     anchors_ = Reader(path_).anchors(run_.id);
   }
 
@@ -130,7 +100,7 @@ class DbViews : public ::testing::Test {
     return a.wall_utc_ns + (t_ns - a.monotonic_ns);
   }
 
-  TempDir dir_;
+  TempDir dir_{"db_views"};
   std::filesystem::path path_ = dir_ / "lab.sqlite";
   RunRecord run_;
   ResumePoint resume_;
@@ -140,9 +110,10 @@ class DbViews : public ::testing::Test {
 
 TEST_F(DbViews, SampleSeriesTakesEachSamplesUtcFromItsOwnSegment) {
   ASSERT_EQ(anchors_.size(), 2u);
-  const auto rows = query(path_, fmt::format("SELECT segment, t_ns, utc_ns, t_s, utc, channel, unit, value "
-                                             "FROM sample_series WHERE run_id = {} ORDER BY utc_ns",
-                                             run_.id));
+  const auto rows =
+      raw_rows(path_, fmt::format("SELECT segment, t_ns, utc_ns, t_s, utc, channel, unit, value "
+                                  "FROM sample_series WHERE run_id = {} ORDER BY utc_ns",
+                                  run_.id));
   ASSERT_EQ(rows.size(), 15u);
   for (const auto& r : rows) {
     const int segment = std::stoi(r[0]);
@@ -161,10 +132,10 @@ TEST_F(DbViews, SampleSeriesTakesEachSamplesUtcFromItsOwnSegment) {
 }
 
 TEST_F(DbViews, StepComparisonListsEveryStepAndMeasurementsOnlyCompletedOnes) {
-  const auto all = query(path_, fmt::format("SELECT step, state, target_displacement_mm, displacement_mm, "
-                                            "measured_T, measured_T_se, predicted_T, predicted_T_se "
-                                            "FROM step_comparison WHERE run_id = {} ORDER BY step",
-                                            run_.id));
+  const auto all = raw_rows(path_, fmt::format("SELECT step, state, target_displacement_mm, displacement_mm, "
+                                               "measured_T, measured_T_se, predicted_T, predicted_T_se "
+                                               "FROM step_comparison WHERE run_id = {} ORDER BY step",
+                                               run_.id));
   ASSERT_EQ(all.size(), 2u);
   EXPECT_EQ(all[0][0], "1");  // steps are 1-based outside the storage
   EXPECT_EQ(all[0][1], "completed");
@@ -180,9 +151,9 @@ TEST_F(DbViews, StepComparisonListsEveryStepAndMeasurementsOnlyCompletedOnes) {
   EXPECT_DOUBLE_EQ(std::stod(all[1][2]), 1.0);
   for (int c : {3, 4, 5}) EXPECT_EQ(all[1][static_cast<std::size_t>(c)], "NULL") << "column " << c;
 
-  const auto measured =
-      query(path_,
-            fmt::format("SELECT step, measured_T, predicted_T FROM measurements WHERE run_id = {}", run_.id));
+  const auto measured = raw_rows(
+      path_,
+      fmt::format("SELECT step, measured_T, predicted_T FROM measurements WHERE run_id = {}", run_.id));
   ASSERT_EQ(measured.size(), 1u);
   EXPECT_EQ(measured[0][0], "1");
 }

@@ -15,6 +15,7 @@
 namespace {
 
 using namespace tocd::db;
+using tocd::db::testing::run_with_channel;
 using tocd::db::testing::TestDatabase;
 
 TEST(DbWriter, SamplesFromManyThreadsAreAllCommitted) {
@@ -74,8 +75,7 @@ TEST(DbWriter, BatchIntervalCommitsWithoutFlush) {
   TestDatabase dir;
   const auto path = dir.location();
   Database db(path);
-  const auto run = db.create_run({}).id;
-  const auto ch = db.add_channel({0, run, "load", "N", 0, kUnset});
+  const Channel ch = run_with_channel(db, "load", "N");
   Writer w(db, {.batch_interval = std::chrono::milliseconds(10),
                 .batch_rows = 1'000'000,
                 .queue_capacity = 1'000'000,
@@ -93,8 +93,7 @@ TEST(DbWriter, BatchIntervalCommitsWithoutFlush) {
 TEST(DbWriter, NanValuesSurviveAsNan) {
   TestDatabase dir;
   Database db(dir.location());
-  const auto run = db.create_run({}).id;
-  const auto ch = db.add_channel({0, run, "power", "W", 0, kUnset});
+  const Channel ch = run_with_channel(db, "power", "W");
   {
     Writer w(db);
     w.enqueue(Sample{ch.id, 1, std::nan("")});  // an over-range reading
@@ -109,8 +108,7 @@ TEST(DbWriter, NanValuesSurviveAsNan) {
 TEST(DbWriter, FullQueueDropsAndCountsNeverBlocks) {
   TestDatabase dir;
   Database db(dir.location());
-  const auto run = db.create_run({}).id;
-  const auto ch = db.add_channel({0, run, "load", "N", 0, kUnset});
+  const Channel ch = run_with_channel(db, "load", "N");
   // A long interval and a huge batch size: nothing leaves the queue before the flush.
   Writer w(db, {.batch_interval = std::chrono::milliseconds(60'000),
                 .batch_rows = 1'000'000,
@@ -136,8 +134,7 @@ TEST(DbWriter, FullQueueDropsAndCountsNeverBlocks) {
 TEST(DbWriter, UnknownChannelIsRejectedOthersKept) {
   TestDatabase dir;
   Database db(dir.location());
-  const auto run = db.create_run({}).id;
-  const auto ch = db.add_channel({0, run, "load", "N", 0, kUnset});
+  const Channel ch = run_with_channel(db, "load", "N");
   Writer w(db);
   w.enqueue(Sample{ch.id, 1, 1.0});
   w.enqueue(Sample{424242, 2, 2.0});
@@ -148,7 +145,7 @@ TEST(DbWriter, UnknownChannelIsRejectedOthersKept) {
   EXPECT_EQ(s.rejected, 2u);
   EXPECT_THAT(s.last_error, ::testing::HasSubstr("unknown"));
   // A channel added after the writer started is found.
-  const auto late = db.add_channel({0, run, "late", "N", 0, kUnset});
+  const auto late = db.add_channel({0, ch.run_id, "late", "N", 0, kUnset});
   w.enqueue(Sample{late.id, 4, 4.0});
   w.flush();
   EXPECT_EQ(w.stats().written, 2u);

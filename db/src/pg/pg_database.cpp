@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "backend_rows.hpp"
 #include "pg_rows.hpp"
 #include "pg_schema.hpp"
 #include "resume_plan.hpp"
@@ -147,30 +148,18 @@ void PgDatabase::set_baseline_power(std::int64_t run_id, double baseline_power_W
 ResumePoint PgDatabase::resume_run(std::int64_t run_id, double clock_factor) {
   std::lock_guard lk(mu_);
   RunRecord r = require_run(c_, run_id);
-  if (r.status == RunStatus::completed)
-    throw DatabaseError(fmt::format("run {} is completed; there is nothing to resume", run_id));
-  if (r.status == RunStatus::running)
-    throw DatabaseError(fmt::format("run {} is still running{}; it cannot be resumed", run_id,
-                                    held(run_id) ? " in another process" : ""));
+  detail::require_resumable(r, [&] { return held(run_id); });
   if (!acquire(run_id))
     throw DatabaseError(fmt::format("run {} is being resumed by another process", run_id));
   try {
     Transaction t(c_);
-    const int first_incomplete = pg::first_incomplete_step(c_, run_id);
-    const auto last = last_recorded_t_ns(c_, run_id);
-    const auto anchors = run_anchors(c_, run_id);
-    const std::int64_t now = monotonic_ns();
-    const auto wall = wall_clock_ns();
     // As on a file: the gap, the new segment's start and its event (resume_plan.hpp).
-    ResumePoint p = detail::plan_resume(r, anchors, last, first_incomplete, now, wall);
+    auto [p, wall] = rows::plan_resume_now(c_, r);
     add_anchor(run_id, wall, p.gap_to_t_ns, clock_factor);
     c_.query("UPDATE runs SET status = 'running', ended_utc_ns = NULL WHERE id = $1", {run_id});
     p.gap_event.id = insert_event(p.gap_event);
     t.commit();
-    r.status = RunStatus::running;
-    r.ended_utc_ns.reset();
-    p.run = r;
-    return p;
+    return detail::resumed(std::move(p), std::move(r));
   } catch (...) {
     release(run_id);
     throw;

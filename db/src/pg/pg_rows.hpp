@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "pg_util.hpp"
+#include "record_rows.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/db/records.hpp"
 
@@ -15,7 +16,7 @@ namespace tocd::db::pg {
 
 std::optional<RunRecord> find_run(const Connection& c, std::int64_t run_id);
 std::vector<RunRecord> all_runs(const Connection& c);
-RunRecord require_run(const Connection& c, std::int64_t run_id);
+using detail::require_run;  // record_rows.hpp: one for both backends
 std::vector<RunAnchor> run_anchors(const Connection& c, std::int64_t run_id);
 std::vector<Channel> run_channels(const Connection& c, std::int64_t run_id);
 std::vector<StepRecord> run_steps(const Connection& c, std::int64_t run_id);

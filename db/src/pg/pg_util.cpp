@@ -204,19 +204,9 @@ void Connection::copy_in(const std::string& copy_sql, std::string_view data) con
   }
 }
 
-Transaction::Transaction(const Connection& c, const char* begin) : c_(c) {
-  c_.exec(begin);
-}
-
-Transaction::~Transaction() {
-  if (!open_) return;
+void rollback_quietly(const Connection& c) noexcept {
   // Best effort: a lost connection has rolled back already.
-  Result r(PQexec(c_.get(), "ROLLBACK"));
-}
-
-void Transaction::commit() {
-  c_.exec("COMMIT");
-  open_ = false;
+  Result r(PQexec(c.get(), "ROLLBACK"));
 }
 
 void append_copy_value(std::string& out, double v) {

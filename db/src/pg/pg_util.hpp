@@ -14,6 +14,7 @@
 #include <libpq-fe.h>
 
 #include "tocd/db/database.hpp"
+#include "transaction.hpp"
 
 namespace tocd::db::pg {
 
@@ -62,6 +63,20 @@ class Result {
   PGresult* r_ = nullptr;
 };
 
+/// Row `i` of a result, read as record_rows.hpp reads a row of either backend.
+class Row {
+ public:
+  Row(const Result& r, int i) noexcept : r_(r), i_(i) {}
+  std::int64_t i64(int col) const { return r_.i64(i_, col); }
+  double f64(int col) const { return r_.f64(i_, col); }
+  std::string text(int col) const { return r_.text(i_, col); }
+  bool null(int col) const { return r_.null(i_, col); }
+
+ private:
+  const Result& r_;
+  int i_;
+};
+
 class Connection {
  public:
   /// Connects to `uri` (libpq's environment, service file and ~/.pgpass fill in the rest).
@@ -97,18 +112,24 @@ class Connection {
   std::string name_;
 };
 
-/// BEGIN .. COMMIT, rolled back when destroyed without commit().
-class Transaction {
- public:
-  explicit Transaction(const Connection& c, const char* begin = "BEGIN");
-  ~Transaction();
-  Transaction(const Transaction&) = delete;
-  Transaction& operator=(const Transaction&) = delete;
-  void commit();
+/// Every row of `sql`, its parameter $1 set to `key`, as `read(const Row&)` makes it.
+template <class Read>
+auto read_rows(const Connection& c, const std::string& sql, std::int64_t key, Read read) {
+  const Result r = c.query(sql, {key});
+  std::vector<decltype(read(Row(r, 0)))> out;
+  out.reserve(static_cast<std::size_t>(r.rows()));
+  for (int i = 0; i < r.rows(); ++i) out.push_back(read(Row(r, i)));
+  return out;
+}
 
- private:
-  const Connection& c_;
-  bool open_ = true;
+/// ROLLBACK, its failure ignored: for a transaction given up (BasicTransaction's destructor).
+void rollback_quietly(const Connection& c) noexcept;
+
+/// BEGIN (or `begin`, e.g. with an isolation level) .. COMMIT, rolled back when destroyed
+/// without commit().
+class Transaction : public detail::BasicTransaction<Connection> {
+ public:
+  explicit Transaction(const Connection& c, const char* begin = "BEGIN") : BasicTransaction(c, begin) {}
 };
 
 /// A value in COPY's text format: NULL for NaN, shortest round-trip digits otherwise.
