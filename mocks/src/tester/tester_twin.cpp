@@ -117,34 +117,19 @@ struct TesterTwin::Impl {
   std::mt19937_64 stream_rng{0x5EED};         // serve_stream's, apart from the server thread's
   std::unique_ptr<net::StreamServer> server;  // last: stopped before the state it serves goes
 
-  static TesterPhysics::Params physics_params(const TesterTwinOptions& o) {
-    TesterPhysics::Params p;
-    p.tissue = o.tissue;
-    p.contact_position_mm = o.contact_position_mm;
-    p.max_travel_mm = o.max_travel_mm;
-    p.max_load_N = o.max_load_N;
-    p.load_noise_N = o.load_noise_N;
-    p.relaxation_fraction = o.relaxation_fraction;
-    p.relaxation_time_s = o.relaxation_time_s;
-    p.drained_time_s = o.delayed_clearing_time_s;
-    p.max_velocity_mm_per_s = o.max_velocity_mm_per_s;
-    p.seed = o.seed;
-    return p;
-  }
-
   explicit Impl(TesterTwinOptions o)
       : opt(std::move(o)),
         clock(opt.clock ? opt.clock : std::make_shared<SimClock>(1.0)),
-        physics(physics_params(opt)),
+        physics(opt.physics),
         registers(physics, *clock),
-        rng(opt.seed ^ 0x9E3779B97F4A7C15ull) {
+        rng(opt.physics.seed ^ 0x9E3779B97F4A7C15ull) {
     map = modbus_mapping_new(0, 0, m::holding_count, m::input_count);
     if (!map) throw Error("mechanical tester twin: cannot allocate the registers");
     write_identity_block(map->tab_input_registers, m::map_version, "tocdlab", "simulated load frame LF-1",
-                         fmt::format("SIM{:05d}", static_cast<int>(opt.seed % 100000)), "1.0.0");
+                         fmt::format("SIM{:05d}", static_cast<int>(opt.physics.seed % 100000)), "1.0.0");
     put_float(map->tab_registers, m::hr_velocity, 1.0);
-    put_float(map->tab_registers, m::hr_max_travel, opt.max_travel_mm);
-    put_float(map->tab_registers, m::hr_max_load, opt.max_load_N);
+    put_float(map->tab_registers, m::hr_max_travel, opt.physics.max_travel_mm);
+    put_float(map->tab_registers, m::hr_max_load, opt.physics.max_load_N);
     registers.refresh(*map);
     try {
       const RegisterServerState state{*map, registers, state_mutex, faults, rng};

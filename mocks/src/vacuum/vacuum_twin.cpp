@@ -82,18 +82,6 @@ class VacuumRegisters final : public RegisterDevice {
   const SimClock& clock_;
 };
 
-VacuumPhysics::Params physics_params(const VacuumTwinOptions& o) {
-  VacuumPhysics::Params p;
-  p.atmosphere_kPa = o.atmosphere_kPa;
-  p.ultimate_kPa = o.ultimate_kPa;
-  p.pump_time_constant_s = o.pump_time_constant_s;
-  p.leak_kPa_per_s = o.leak_kPa_per_s;
-  p.vent_time_constant_s = o.vent_time_constant_s;
-  p.seal_loss_leak_kPa_per_s = o.seal_loss_leak_kPa_per_s;
-  p.setpoint_timeout_s = o.setpoint_timeout_s;
-  return p;
-}
-
 }  // namespace
 
 struct VacuumTwin::Impl {
@@ -115,7 +103,7 @@ struct VacuumTwin::Impl {
   explicit Impl(VacuumTwinOptions o)
       : opt(std::move(o)),
         clock(opt.clock ? opt.clock : std::make_shared<SimClock>(1.0)),
-        physics(physics_params(opt)),
+        physics(opt.physics),
         registers(physics, *clock) {
     if (opt.slave_id < 1 || opt.slave_id > 247)
       throw ConfigError(fmt::format("vacuum twin: slave id must be 1..247 (got {})", opt.slave_id));
