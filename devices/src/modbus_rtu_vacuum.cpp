@@ -4,12 +4,10 @@
 
 #include <fmt/format.h>
 
-#include "modbus/identity_block.hpp"
-#include "modbus/modbus_link.hpp"
+#include "modbus/modbus_driver.hpp"
 #include "tocd/core/clock.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/devices/register_codec.hpp"
-#include "tocd/devices/tester_registers.hpp"
 #include "tocd/devices/vacuum_driver.hpp"
 #include "tocd/devices/vacuum_registers.hpp"
 
@@ -18,34 +16,22 @@ namespace {
 
 namespace vm = vacuum_map;
 
-class ModbusRtuVacuum final : public VacuumController {
+class ModbusRtuVacuum final : public ModbusDriver<VacuumController> {
  public:
   ModbusRtuVacuum(const ModbusRtuAddress& a, const ModbusOptions& o)
-      : link_(fmt::format("vacuum controller {} (slave {})", a.device, a.slave_id), ModbusLink::Rtu{a}, o) {
-    link_.open();
-  }
-
-  const InstrumentCapabilities& describe() const override { return vm::capabilities; }
-
-  Identity identity() override {
-    std::array<std::uint16_t, 1 + tester_map::identity_regs> regs{};
-    link_.read_input(vm::in_map_version, static_cast<int>(regs.size()), regs.data(), "map version, identity");
-    return decode_identity_block(regs.data(), vm::map_version, link_.instrument());
-  }
+      : ModbusDriver(fmt::format("vacuum controller {} (slave {})", a.device, a.slave_id), ModbusLink::Rtu{a},
+                     o, vm::capabilities, vm::map_version) {}
 
   VacuumReading read() override {
-    std::array<std::uint16_t, vm::in_poll_count> r{};
-    link_.read_input(0, vm::in_poll_count, r.data(), "pressure, setpoint, status, error code");
+    const PollBlock r = read_poll_block(link_, "pressure, setpoint, status, error code");
     VacuumReading out;
     out.t_ns = monotonic_ns();
     out.pressure_kPa = registers_to_float(r[vm::in_pressure], r[vm::in_pressure + 1]);
-    out.setpoint_kPa = registers_to_float(r[vm::in_setpoint], r[vm::in_setpoint + 1]);
+    // An absolute pressure: a negative one is as wrong as a NaN.
     if (!std::isfinite(out.pressure_kPa) || out.pressure_kPa < 0.0)
       throw ProtocolError(link_.instrument(), "read of input registers 0..1 (pressure)",
                           fmt::format("the pressure is not a finite number >= 0 (got {})", out.pressure_kPa));
-    if (!std::isfinite(out.setpoint_kPa))
-      throw ProtocolError(link_.instrument(), "read of input registers 2..3 (setpoint)",
-                          "the setpoint is not a finite number");
+    out.setpoint_kPa = finite_float(link_, r, vm::in_setpoint, "setpoint");
     out.pump_running = r[vm::in_status] & vm::st_pump_running;
     out.vent_open = r[vm::in_status] & vm::st_vent_open;
     out.error_code = r[vm::in_error_code];
@@ -62,9 +48,6 @@ class ModbusRtuVacuum final : public VacuumController {
 
   void run_pump(bool on) override { link_.write_register(vm::hr_pump_run, on ? 1 : 0, "pump run"); }
   void set_vent(bool open) override { link_.write_register(vm::hr_vent, open ? 1 : 0, "vent valve"); }
-
- private:
-  ModbusLink link_;
 };
 
 }  // namespace

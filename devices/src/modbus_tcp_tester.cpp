@@ -4,8 +4,7 @@
 
 #include <fmt/format.h>
 
-#include "modbus/identity_block.hpp"
-#include "modbus/modbus_link.hpp"
+#include "modbus/modbus_driver.hpp"
 #include "tocd/core/clock.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/devices/register_codec.hpp"
@@ -17,37 +16,20 @@ namespace {
 
 namespace m = tester_map;
 
-class ModbusTcpTester final : public MechanicalTester {
+class ModbusTcpTester final : public ModbusDriver<MechanicalTester> {
  public:
   ModbusTcpTester(const ModbusTcpAddress& a, const ModbusOptions& o)
-      : link_(fmt::format("mechanical tester {}:{}",
-                          a.host.find(':') == std::string::npos ? a.host : "[" + a.host + "]", a.port),
-              ModbusLink::Tcp{a}, o) {
-    link_.open();
-  }
-
-  const InstrumentCapabilities& describe() const override { return m::capabilities; }
-
-  Identity identity() override {
-    std::array<std::uint16_t, 1 + m::identity_regs> regs{};
-    link_.read_input(m::in_map_version, static_cast<int>(regs.size()), regs.data(), "map version, identity");
-    return decode_identity_block(regs.data(), m::map_version, link_.instrument());
-  }
+      : ModbusDriver(fmt::format("mechanical tester {}:{}",
+                                 a.host.find(':') == std::string::npos ? a.host : "[" + a.host + "]", a.port),
+                     ModbusLink::Tcp{a}, o, m::capabilities, m::map_version) {}
 
   TesterReading read() override {
     // One transaction for position, load, status and fault code: the polling hot path.
-    std::array<std::uint16_t, m::in_poll_count> r{};
-    link_.read_input(0, m::in_poll_count, r.data(), "position, load, status, fault code");
+    const PollBlock r = read_poll_block(link_, "position, load, status, fault code");
     TesterReading out;
     out.t_ns = monotonic_ns();
-    out.position_mm = registers_to_float(r[m::in_position], r[m::in_position + 1]);
-    out.load_N = registers_to_float(r[m::in_load], r[m::in_load + 1]);
-    if (!std::isfinite(out.position_mm))
-      throw ProtocolError(link_.instrument(), "read of input registers 0..1 (position)",
-                          "the position is not a finite number");
-    if (!std::isfinite(out.load_N))
-      throw ProtocolError(link_.instrument(), "read of input registers 2..3 (load)",
-                          "the load is not a finite number");
+    out.position_mm = finite_float(link_, r, m::in_position, "position");
+    out.load_N = finite_float(link_, r, m::in_load, "load");
     const std::uint16_t s = r[m::in_status];
     out.status.ready = s & m::st_ready;
     out.status.moving = s & m::st_moving;
@@ -88,8 +70,6 @@ class ModbusTcpTester final : public MechanicalTester {
 
  private:
   void command(std::uint16_t code, const char* what) { link_.write_register(m::hr_command, code, what); }
-
-  ModbusLink link_;
 };
 
 }  // namespace

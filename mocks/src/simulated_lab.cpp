@@ -42,14 +42,14 @@ SimulatedLab::SimulatedLab(SimulatedLabOptions opt) : impl_(std::make_unique<Imp
   s.clock = std::make_shared<SimClock>(opt.clock_factor);
 
   TesterTwinOptions t;
-  t.tissue = opt.tissue;
   t.clock = s.clock;
   t.port = opt.tester_port;
-  t.contact_position_mm = opt.contact_position_mm;
-  t.seed = opt.seed;
-  t.relaxation_fraction = opt.relaxation_fraction;
-  t.relaxation_time_s = opt.relaxation_time_s;
-  t.delayed_clearing_time_s = opt.delayed_clearing_time_s;
+  t.physics.tissue = opt.tissue;
+  t.physics.contact_position_mm = opt.contact_position_mm;
+  t.physics.seed = opt.seed;
+  t.physics.relaxation_fraction = opt.relaxation_fraction;
+  t.physics.relaxation_time_s = opt.relaxation_time_s;
+  t.physics.drained_time_s = opt.delayed_clearing_time_s;
   s.tester = std::make_unique<TesterTwin>(t);
 
   if (opt.with_vacuum) {

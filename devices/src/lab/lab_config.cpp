@@ -88,34 +88,42 @@ void expect_transport(TableReader& r, const std::string& transport, const std::s
     r.fail(t.get("transport"), "transport", fmt::format("must be \"{}\" (got \"{}\")", expected, transport));
 }
 
-TesterConfig read_tester(const toml::table& t, const std::string& source) {
-  TableReader r(t, "tester", source);
-  expect_transport(r, r.str("transport", "modbus-tcp"), "modbus-tcp", t);
-  TesterConfig c;
-  c.address.host = r.str("host", "", true);
-  c.address.port = static_cast<int>(r.integer("port", 502, 1, 65535));
-  c.address.slave_id = static_cast<int>(r.integer("slave_id", 1, 0, 255));
+/// [tester] and [vacuum]: the one Modbus transport each accepts, the address (read by
+/// `read_address` into the config's address) and the link options, in that order.
+template <class Config, class ReadAddress>
+Config read_modbus_instrument(const toml::table& t, const std::string& source, const char* name,
+                              const char* transport, ReadAddress read_address) {
+  TableReader r(t, name, source);
+  expect_transport(r, r.str("transport", transport), transport, t);
+  Config c;
+  read_address(r, c.address);
   c.link = r.link({});
   r.reject_unknown();
   return c;
 }
 
+TesterConfig read_tester(const toml::table& t, const std::string& source) {
+  return read_modbus_instrument<TesterConfig>(
+      t, source, "tester", "modbus-tcp", [](TableReader& r, ModbusTcpAddress& a) {
+        a.host = r.str("host", "", true);
+        a.port = static_cast<int>(r.integer("port", 502, 1, 65535));
+        a.slave_id = static_cast<int>(r.integer("slave_id", 1, 0, 255));
+      });
+}
+
 VacuumConfig read_vacuum(const toml::table& t, const std::string& source) {
-  TableReader r(t, "vacuum", source);
-  expect_transport(r, r.str("transport", "modbus-rtu"), "modbus-rtu", t);
-  VacuumConfig c;
-  c.address.device = r.str("device", "", true);
-  c.address.baud = static_cast<int>(r.integer("baud", 19200, 50, 4000000));
-  const std::string parity = r.str("parity", "N");
-  if (parity != "N" && parity != "E" && parity != "O")
-    r.fail(t.get("parity"), "parity", "must be \"N\", \"E\" or \"O\"");
-  c.address.parity = parity[0];
-  c.address.data_bits = static_cast<int>(r.integer("data_bits", 8, 5, 8));
-  c.address.stop_bits = static_cast<int>(r.integer("stop_bits", 1, 1, 2));
-  c.address.slave_id = static_cast<int>(r.integer("slave_id", 1, 1, 247));
-  c.link = r.link({});
-  r.reject_unknown();
-  return c;
+  return read_modbus_instrument<VacuumConfig>(
+      t, source, "vacuum", "modbus-rtu", [&t](TableReader& r, ModbusRtuAddress& a) {
+        a.device = r.str("device", "", true);
+        a.baud = static_cast<int>(r.integer("baud", 19200, 50, 4000000));
+        const std::string parity = r.str("parity", "N");
+        if (parity != "N" && parity != "E" && parity != "O")
+          r.fail(t.get("parity"), "parity", "must be \"N\", \"E\" or \"O\"");
+        a.parity = parity[0];
+        a.data_bits = static_cast<int>(r.integer("data_bits", 8, 5, 8));
+        a.stop_bits = static_cast<int>(r.integer("stop_bits", 1, 1, 2));
+        a.slave_id = static_cast<int>(r.integer("slave_id", 1, 1, 247));
+      });
 }
 
 PowerMeterConfig read_power_meter(const toml::table& t, const std::string& source) {

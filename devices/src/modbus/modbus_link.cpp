@@ -276,30 +276,28 @@ void ModbusLink::transact(const std::string& operation, const std::function<int(
 
 // Requests and answers as protocol data units (function code, address, count, data; the
 // TCP header / RTU address and CRC are libmodbus's), logged at trace level.
-void ModbusLink::read_input(int address, int count, std::uint16_t* dest, std::string_view what) {
+void ModbusLink::read_registers(int function, std::string_view table, int address, int count,
+                                std::uint16_t* dest, std::string_view what) {
   if (trace_enabled())
-    trace_log().trace("{}: modbus tx {}", instrument_,
-                      modbus_pdu_hex(MODBUS_FC_READ_INPUT_REGISTERS, address, count));
-  transact(register_operation("read", "input", address, count, what), [&](modbus_t* ctx) {
-    const int rc = modbus_read_input_registers(ctx, address, count, dest);
+    trace_log().trace("{}: modbus tx {}", instrument_, modbus_pdu_hex(function, address, count));
+  // Functions 0x03 and 0x04 differ only in the table they read: one libmodbus call each.
+  const auto read =
+      function == MODBUS_FC_READ_INPUT_REGISTERS ? modbus_read_input_registers : modbus_read_registers;
+  transact(register_operation("read", table, address, count, what), [&](modbus_t* ctx) {
+    const int rc = read(ctx, address, count, dest);
     return rc == count || rc < 0 ? rc : (errno = EMBBADDATA, -1);
   });
   if (trace_enabled())
-    trace_log().trace("{}: modbus rx {:02x} {:02x} {}", instrument_, MODBUS_FC_READ_INPUT_REGISTERS,
-                      2 * count, hex_bytes(register_bytes(dest, count), 512));
+    trace_log().trace("{}: modbus rx {:02x} {:02x} {}", instrument_, function, 2 * count,
+                      hex_bytes(register_bytes(dest, count), 512));
+}
+
+void ModbusLink::read_input(int address, int count, std::uint16_t* dest, std::string_view what) {
+  read_registers(MODBUS_FC_READ_INPUT_REGISTERS, "input", address, count, dest, what);
 }
 
 void ModbusLink::read_holding(int address, int count, std::uint16_t* dest, std::string_view what) {
-  if (trace_enabled())
-    trace_log().trace("{}: modbus tx {}", instrument_,
-                      modbus_pdu_hex(MODBUS_FC_READ_HOLDING_REGISTERS, address, count));
-  transact(register_operation("read", "holding", address, count, what), [&](modbus_t* ctx) {
-    const int rc = modbus_read_registers(ctx, address, count, dest);
-    return rc == count || rc < 0 ? rc : (errno = EMBBADDATA, -1);
-  });
-  if (trace_enabled())
-    trace_log().trace("{}: modbus rx {:02x} {:02x} {}", instrument_, MODBUS_FC_READ_HOLDING_REGISTERS,
-                      2 * count, hex_bytes(register_bytes(dest, count), 512));
+  read_registers(MODBUS_FC_READ_HOLDING_REGISTERS, "holding", address, count, dest, what);
 }
 
 void ModbusLink::write_registers(int address, int count, const std::uint16_t* values, std::string_view what) {

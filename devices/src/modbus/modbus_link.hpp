@@ -43,6 +43,8 @@ class ModbusLink {
   int reconnects() const noexcept { return reconnects_; }
 
  private:
+  void read_registers(int function, std::string_view table, int address, int count, std::uint16_t* dest,
+                      std::string_view what);
   void transact(const std::string& operation, const std::function<int(_modbus*)>& call);
   bool connect_once(std::string& why);
   void drop();

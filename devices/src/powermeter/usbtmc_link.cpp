@@ -104,36 +104,24 @@ std::vector<std::uint8_t> Link::control(std::uint8_t type, std::uint8_t request,
   return buf;
 }
 
-void Link::abort_bulk_out(std::uint8_t tag, Clock::time_point deadline) noexcept {
+void Link::abort_bulk(Bulk direction, std::uint8_t tag, Clock::time_point deadline) noexcept {
+  const bool out = direction == Bulk::out;
   try {
-    const auto ep = endpoint_->bulk_out_address();
-    const auto st = control(request_type_endpoint, initiate_abort_bulk_out, tag, ep, 2, deadline);
+    const auto ep = out ? endpoint_->bulk_out_address() : endpoint_->bulk_in_address();
+    const auto st = control(request_type_endpoint, out ? initiate_abort_bulk_out : initiate_abort_bulk_in,
+                            tag, ep, 2, deadline);
     if (!st.empty() && st[0] == status_success) {
+      const auto check = out ? check_abort_bulk_out_status : check_abort_bulk_in_status;
       for (int i = 0; i < status_polls; ++i) {
-        const auto c = control(request_type_endpoint, check_abort_bulk_out_status, 0, ep, 8, deadline);
+        const auto c = control(request_type_endpoint, check, 0, ep, 8, deadline);
         if (c.empty() || c[0] != status_pending) break;
         std::this_thread::sleep_for(std::chrono::milliseconds{5});
       }
     }
-    endpoint_->clear_halt(ep);
+    if (out) endpoint_->clear_halt(ep);  // USBTMC 4.2.1.3: the host clears the bulk-OUT halt
   } catch (const LinkError&) {
     // Recovery is best effort: the caller reports the original failure, and clear() or a
     // reconnect follows.
-  }
-}
-
-void Link::abort_bulk_in(std::uint8_t tag, Clock::time_point deadline) noexcept {
-  try {
-    const auto ep = endpoint_->bulk_in_address();
-    const auto st = control(request_type_endpoint, initiate_abort_bulk_in, tag, ep, 2, deadline);
-    if (!st.empty() && st[0] == status_success) {
-      for (int i = 0; i < status_polls; ++i) {
-        const auto c = control(request_type_endpoint, check_abort_bulk_in_status, 0, ep, 8, deadline);
-        if (c.empty() || c[0] != status_pending) break;
-        std::this_thread::sleep_for(std::chrono::milliseconds{5});
-      }
-    }
-  } catch (const LinkError&) {
   }
 }
 
@@ -154,7 +142,7 @@ void Link::write(std::string_view message, Clock::time_point deadline) {
     const UsbTransfer r = endpoint_->bulk_out(transfer, left(deadline));
     if (r.status == UsbStatus::disconnected) fail(LinkFailure::disconnected, "device disconnected");
     if (r.status != UsbStatus::ok || r.length != transfer.size()) {
-      abort_bulk_out(tag, deadline);
+      abort_bulk(Bulk::out, tag, deadline);
       if (r.status == UsbStatus::timeout) fail(LinkFailure::timeout, "bulk-OUT transfer timed out");
       fail(LinkFailure::protocol,
            fmt::format("bulk-OUT transfer (bTag {}) refused: {} {}", tag, status_name(r.status), r.detail));
@@ -176,18 +164,18 @@ std::string Link::read(Clock::time_point deadline) {
     const UsbTransfer w = endpoint_->bulk_out(request, left(deadline));
     if (w.status == UsbStatus::disconnected) fail(LinkFailure::disconnected, "device disconnected");
     if (w.status != UsbStatus::ok) {
-      abort_bulk_out(tag, deadline);
+      abort_bulk(Bulk::out, tag, deadline);
       fail(w.status == UsbStatus::timeout ? LinkFailure::timeout : LinkFailure::protocol,
            fmt::format("REQUEST_DEV_DEP_MSG_IN (bTag {}): {}", tag, status_name(w.status)));
     }
     const UsbTransfer r = endpoint_->bulk_in(buf, left(deadline));
     if (r.status == UsbStatus::disconnected) fail(LinkFailure::disconnected, "device disconnected");
     if (r.status == UsbStatus::timeout) {
-      abort_bulk_in(tag, deadline);
+      abort_bulk(Bulk::in, tag, deadline);
       fail(LinkFailure::timeout, message.empty() ? "no answer" : "answer incomplete (no EOM)");
     }
     if (r.status != UsbStatus::ok) {
-      abort_bulk_in(tag, deadline);
+      abort_bulk(Bulk::in, tag, deadline);
       fail(LinkFailure::protocol, fmt::format("bulk-IN transfer: {} {}", status_name(r.status), r.detail));
     }
     const std::span<const std::uint8_t> transfer(buf.data(), r.length);

@@ -6,6 +6,16 @@
 #include "tocd/core/error.hpp"
 
 namespace tocd::mocks {
+namespace {
+
+/// Whether a fault counter applies to this message; counts it down when it does.
+bool take(int& counter) {
+  if (counter <= 0) return false;
+  --counter;
+  return true;
+}
+
+}  // namespace
 
 PowerMeterTwin::Impl::Impl(PowerMeterTwinOptions o)
     : options(o), clock(o.clock ? o.clock : std::make_shared<SimClock>(1.0)), engine(o) {}
@@ -18,40 +28,31 @@ PowerMeterTwin::Impl::Reply PowerMeterTwin::Impl::handle(std::string_view messag
   std::lock_guard lock(mutex);
   ++stats.messages;
   Reply r;
-  if (drop > 0) {
-    --drop;
+  if (take(faults.drop)) {
     r.action = Action::drop;
     return r;
   }
   const auto result = engine.process(message, clock->now_ns());
   if (!result.answer) return r;
   ++stats.queries;
-  if (swallow > 0) {
-    --swallow;
-    return r;
-  }
+  if (take(faults.swallow)) return r;
   r.action = Action::answer;
   r.bytes = *result.answer;
-  if (garbage > 0) {
-    --garbage;
+  if (take(faults.garbage)) {
     r.bytes = std::string("\x9C\x01\xFE\x1B[\x80", 6) + r.bytes.substr(0, 3) + std::string("\xFF\x00\x07", 3);
-  } else if (non_numeric > 0 && result.numeric) {
-    --non_numeric;
+  } else if (result.numeric && take(faults.non_numeric)) {
     r.bytes = "OVERLOAD";
   }
   auto wait = std::chrono::duration<double>(result.busy_s / clock->factor());
-  if (delayed > 0) {
-    --delayed;
-    wait += delay;
-  }
+  if (take(faults.delayed)) wait += faults.delay;
   r.ready = Clock::now() + std::chrono::duration_cast<Clock::duration>(wait);
   return r;
 }
 
 PowerMeterTwin::Impl::UsbFault PowerMeterTwin::Impl::take_usb_fault() {
   std::lock_guard lock(mutex);
-  if (wrong_tag > 0) return --wrong_tag, UsbFault::wrong_tag;
-  if (short_header > 0) return --short_header, UsbFault::short_header;
+  if (take(faults.wrong_tag)) return UsbFault::wrong_tag;
+  if (take(faults.short_header)) return UsbFault::short_header;
   return UsbFault::none;
 }
 
@@ -91,45 +92,38 @@ void PowerMeterTwin::set_usb_unplugged(bool unplugged) {
 
 void PowerMeterTwin::delay_replies(int count, std::chrono::milliseconds delay) {
   std::lock_guard lock(impl_->mutex);
-  impl_->delayed = count;
-  impl_->delay = delay;
+  impl_->faults.delayed = count;
+  impl_->faults.delay = delay;
 }
 void PowerMeterTwin::swallow_replies(int count) {
-  std::lock_guard lock(impl_->mutex);
-  impl_->swallow = count;
+  impl_->arm(&Impl::Faults::swallow, count);
 }
 void PowerMeterTwin::garbage_replies(int count) {
-  std::lock_guard lock(impl_->mutex);
-  impl_->garbage = count;
+  impl_->arm(&Impl::Faults::garbage, count);
 }
 void PowerMeterTwin::non_numeric_replies(int count) {
-  std::lock_guard lock(impl_->mutex);
-  impl_->non_numeric = count;
+  impl_->arm(&Impl::Faults::non_numeric, count);
 }
 void PowerMeterTwin::over_range_readings(int count) {
   std::lock_guard lock(impl_->mutex);
   impl_->engine.force_over_range = count;
 }
 void PowerMeterTwin::drop_link(int count) {
-  std::lock_guard lock(impl_->mutex);
-  impl_->drop = count;
+  impl_->arm(&Impl::Faults::drop, count);
 }
 void PowerMeterTwin::push_error(int code, const std::string& message) {
   std::lock_guard lock(impl_->mutex);
   impl_->engine.push_error(code, message);
 }
 void PowerMeterTwin::usb_wrong_tag(int count) {
-  std::lock_guard lock(impl_->mutex);
-  impl_->wrong_tag = count;
+  impl_->arm(&Impl::Faults::wrong_tag, count);
 }
 void PowerMeterTwin::usb_short_header(int count) {
-  std::lock_guard lock(impl_->mutex);
-  impl_->short_header = count;
+  impl_->arm(&Impl::Faults::short_header, count);
 }
 void PowerMeterTwin::clear_faults() {
   std::lock_guard lock(impl_->mutex);
-  impl_->delayed = impl_->swallow = impl_->garbage = impl_->non_numeric = impl_->drop = 0;
-  impl_->wrong_tag = impl_->short_header = 0;
+  impl_->faults = {};  // every counter, so a new one cannot be missed here
   impl_->engine.force_over_range = 0;
 }
 

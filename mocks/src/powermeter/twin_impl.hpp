@@ -41,10 +41,20 @@ class PowerMeterTwin::Impl {
   detail::ScpiMeterEngine engine;
   PowerMeterTwinStats stats;
   bool usb_unplugged = false;
-  // fault counters
-  int delayed = 0;
-  std::chrono::milliseconds delay{0};
-  int swallow = 0, garbage = 0, non_numeric = 0, drop = 0, wrong_tag = 0, short_header = 0;
+
+  /// The injected faults: each counter is how many more program messages (or USB transfers)
+  /// it applies to (PowerMeterTwin's fault hooks).
+  struct Faults {
+    int delayed = 0;
+    std::chrono::milliseconds delay{0};
+    int swallow = 0, garbage = 0, non_numeric = 0, drop = 0, wrong_tag = 0, short_header = 0;
+  };
+  Faults faults;
+  /// Sets one counter of `faults` under the lock.
+  void arm(int Faults::*counter, int count) {
+    std::lock_guard lock(mutex);
+    faults.*counter = count;
+  }
 
   std::string tcp_host;
   int tcp_port = 0;

@@ -133,31 +133,32 @@ class SimUsbEndpoint final : public devices::UsbBulkEndpoint {
         r.length != lengths[r.request])
       return {UsbStatus::stall, 0, fmt::format("control request {} malformed", r.request)};
     const auto tag = static_cast<std::uint8_t>(r.value & 0xFF);
+    // An abort names the transfer by its bTag: STATUS_SUCCESS and its data dropped when that
+    // transfer is the one in progress, STATUS_TRANSFER_NOT_IN_PROGRESS otherwise.
+    const auto abort_reply = [tag](bool in_progress) {
+      return std::vector<std::uint8_t>{static_cast<std::uint8_t>(in_progress ? 0x01 : 0x81), tag};
+    };
     switch (r.request) {
-      case 1:  // INITIATE_ABORT_BULK_OUT
-        if (tag == last_out_tag_ && tag != 0) {
-          message_.clear();
-          reply = {0x01, tag};
-        } else {
-          reply = {0x81, tag};
-        }
+      case 1: {  // INITIATE_ABORT_BULK_OUT
+        const bool in_progress = tag == last_out_tag_ && tag != 0;
+        if (in_progress) message_.clear();
+        reply = abort_reply(in_progress);
         break;
-      case 2:
-        reply = {0x01, 0, 0, 0, 0, 0, 0, 0};
-        break;  // CHECK_ABORT_BULK_OUT_STATUS
-      case 3:   // INITIATE_ABORT_BULK_IN
-        if (request_tag_ != 0 && tag == request_tag_) {
+      }
+      case 3: {  // INITIATE_ABORT_BULK_IN
+        const bool in_progress = request_tag_ != 0 && tag == request_tag_;
+        if (in_progress) {
           request_tag_ = 0;
           output_.clear();
-          reply = {0x01, tag};
-        } else {
-          reply = {0x81, tag};
         }
+        reply = abort_reply(in_progress);
         break;
-      case 4:
+      }
+      case 2:  // CHECK_ABORT_BULK_OUT_STATUS
+      case 4:  // CHECK_ABORT_BULK_IN_STATUS: both aborts finish at once
         reply = {0x01, 0, 0, 0, 0, 0, 0, 0};
-        break;  // CHECK_ABORT_BULK_IN_STATUS
-      case 5:   // INITIATE_CLEAR
+        break;
+      case 5:  // INITIATE_CLEAR
         message_.clear();
         output_.clear();
         request_tag_ = 0;

@@ -4,6 +4,7 @@
 #include <memory>
 #include <random>
 
+#include "tocd/mocks/tester_twin.hpp"
 #include "tocd/mocks/tissue.hpp"
 
 namespace tocd::mocks {
@@ -19,23 +20,7 @@ namespace tocd::mocks {
 /// sample's truth (sample_truth.hpp); by default they are equal.
 class TesterPhysics {
  public:
-  struct Params {
-    std::shared_ptr<TissueModel> tissue;
-    double contact_position_mm = 1.0;
-    double max_travel_mm = 10.0;
-    double max_load_N = 50.0;
-    /// The frame's stroke and the load cell's capacity: no limit can be set beyond them.
-    double travel_range_mm = 100.0;
-    double load_capacity_N = 500.0;
-    double load_noise_N = 0.002;
-    double load_cell_offset_N = 0.05;  ///< what the cell reads unloaded before a tare
-    double relaxation_fraction = 0.3;
-    double relaxation_time_s = 20.0;  ///< decay time of the overstress
-    double drained_time_s = 20.0;     ///< time constant of the drained displacement
-    double max_velocity_mm_per_s = 20.0;
-    double home_velocity_mm_per_s = 5.0;
-    std::uint64_t seed = 1;
-  };
+  using Params = TesterTwinPhysics;
   explicit TesterPhysics(Params p);
 
   /// Advance to simulated time t (s); earlier times are ignored.

@@ -9,15 +9,13 @@
 #include <modbus/modbus.h>
 
 #include "modbus_server/identity.hpp"
-#include "modbus_server/register_server.hpp"
 #include "modbus_server/tcp_session.hpp"
+#include "modbus_server/twin_state.hpp"
 #include "net/stream_server.hpp"
 #include "tester/tester_physics.hpp"
-#include "tocd/core/error.hpp"
 #include "tocd/core/log.hpp"
 #include "tocd/devices/register_codec.hpp"
 #include "tocd/devices/tester_registers.hpp"
-#include "tocd/mocks/sim_clock.hpp"
 
 namespace tocd::mocks {
 
@@ -26,12 +24,12 @@ namespace m = tocd::devices::tester_map;
 namespace {
 
 /// The register view of TesterPhysics.
-class TesterRegisters final : public RegisterDevice {
+class TesterRegisters final : public PhysicsRegisters<TesterPhysics> {
  public:
-  TesterRegisters(TesterPhysics& physics, const SimClock& clock) : physics_(physics), clock_(clock) {}
+  using PhysicsRegisters::PhysicsRegisters;
 
   void refresh(modbus_mapping_t& map) override {
-    physics_.advance(static_cast<double>(clock_.now_ns()) * 1e-9);
+    advance_to_now();
     std::uint16_t* in = map.tab_input_registers;
     put_float(in, m::in_position, physics_.position_mm());
     put_float(in, m::in_load, physics_.measured_load_N());
@@ -97,69 +95,29 @@ class TesterRegisters final : public RegisterDevice {
     hr[m::hr_command] = m::cmd_none;  // reads back 0 once accepted
     refresh(map);
   }
-
- private:
-  TesterPhysics& physics_;
-  const SimClock& clock_;
 };
 
 }  // namespace
 
-struct TesterTwin::Impl {
+struct TesterTwin::Impl : TwinState<TesterPhysics, TesterRegisters> {
   TesterTwinOptions opt;
-  std::shared_ptr<const SimClock> clock;
-  TesterPhysics physics;
-  TesterRegisters registers;
-  mutable std::mutex state_mutex;
-  FaultQueue faults;
-  modbus_mapping_t* map = nullptr;
   std::mt19937_64 rng;
   std::mt19937_64 stream_rng{0x5EED};         // serve_stream's, apart from the server thread's
   std::unique_ptr<net::StreamServer> server;  // last: stopped before the state it serves goes
 
-  static TesterPhysics::Params physics_params(const TesterTwinOptions& o) {
-    TesterPhysics::Params p;
-    p.tissue = o.tissue;
-    p.contact_position_mm = o.contact_position_mm;
-    p.max_travel_mm = o.max_travel_mm;
-    p.max_load_N = o.max_load_N;
-    p.load_noise_N = o.load_noise_N;
-    p.relaxation_fraction = o.relaxation_fraction;
-    p.relaxation_time_s = o.relaxation_time_s;
-    p.drained_time_s = o.delayed_clearing_time_s;
-    p.max_velocity_mm_per_s = o.max_velocity_mm_per_s;
-    p.seed = o.seed;
-    return p;
-  }
-
   explicit Impl(TesterTwinOptions o)
-      : opt(std::move(o)),
-        clock(opt.clock ? opt.clock : std::make_shared<SimClock>(1.0)),
-        physics(physics_params(opt)),
-        registers(physics, *clock),
-        rng(opt.seed ^ 0x9E3779B97F4A7C15ull) {
-    map = modbus_mapping_new(0, 0, m::holding_count, m::input_count);
-    if (!map) throw Error("mechanical tester twin: cannot allocate the registers");
+      : TwinState(o.clock, o.physics, m::holding_count, m::input_count, "mechanical tester twin"),
+        opt(std::move(o)),
+        rng(opt.physics.seed ^ 0x9E3779B97F4A7C15ull) {
     write_identity_block(map->tab_input_registers, m::map_version, "tocdlab", "simulated load frame LF-1",
-                         fmt::format("SIM{:05d}", static_cast<int>(opt.seed % 100000)), "1.0.0");
+                         fmt::format("SIM{:05d}", static_cast<int>(opt.physics.seed % 100000)), "1.0.0");
     put_float(map->tab_registers, m::hr_velocity, 1.0);
-    put_float(map->tab_registers, m::hr_max_travel, opt.max_travel_mm);
-    put_float(map->tab_registers, m::hr_max_load, opt.max_load_N);
+    put_float(map->tab_registers, m::hr_max_travel, opt.physics.max_travel_mm);
+    put_float(map->tab_registers, m::hr_max_load, opt.physics.max_load_N);
     registers.refresh(*map);
-    try {
-      const RegisterServerState state{*map, registers, state_mutex, faults, rng};
-      server = std::make_unique<net::StreamServer>(
-          "mechanical tester twin", net::listen_tcp(opt.host, opt.port, "mechanical tester twin"), opt.limits,
-          [state] { return make_modbus_tcp_session(state); });
-    } catch (...) {
-      modbus_mapping_free(map);
-      throw;
-    }
-  }
-
-  ~Impl() {
-    server.reset();
-    modbus_mapping_free(map);
+    server = std::make_unique<net::StreamServer>(
+        "mechanical tester twin", net::listen_tcp(opt.host, opt.port, "mechanical tester twin"), opt.limits,
+        [state = server_state(rng)] { return make_modbus_tcp_session(state); });
   }
 };
 
@@ -178,21 +136,15 @@ devices::ModbusTcpAddress TesterTwin::address() const {
 }
 
 double TesterTwin::position_mm() const {
-  std::lock_guard lock(impl_->state_mutex);
-  impl_->physics.advance(static_cast<double>(impl_->clock->now_ns()) * 1e-9);
-  return impl_->physics.position_mm();
+  return impl_->at_now(&TesterPhysics::position_mm);
 }
 
 double TesterTwin::displacement_mm() const {
-  std::lock_guard lock(impl_->state_mutex);
-  impl_->physics.advance(static_cast<double>(impl_->clock->now_ns()) * 1e-9);
-  return impl_->physics.displacement_mm();
+  return impl_->at_now(&TesterPhysics::displacement_mm);
 }
 
 double TesterTwin::drained_displacement_mm() const {
-  std::lock_guard lock(impl_->state_mutex);
-  impl_->physics.advance(static_cast<double>(impl_->clock->now_ns()) * 1e-9);
-  return impl_->physics.drained_displacement_mm();
+  return impl_->at_now(&TesterPhysics::drained_displacement_mm);
 }
 
 void TesterTwin::inject(const ModbusFault& fault) {
@@ -204,13 +156,11 @@ void TesterTwin::drop_connections() {
 }
 
 void TesterTwin::trip_load_limit() {
-  std::lock_guard lock(impl_->state_mutex);
-  impl_->physics.trip_load_limit();
+  impl_->locked(&TesterPhysics::trip_load_limit);
 }
 
 void TesterTwin::set_drive_fault(std::uint16_t code) {
-  std::lock_guard lock(impl_->state_mutex);
-  impl_->physics.set_drive_fault(code);
+  impl_->locked([code](TesterPhysics& p) { p.set_drive_fault(code); });
 }
 
 int TesterTwin::connections_accepted() const {
@@ -221,9 +171,7 @@ int TesterTwin::faults_pending() const {
 }
 
 TesterTwin::StreamReply TesterTwin::serve_stream(std::string_view received) {
-  const RegisterServerState state{*impl_->map, impl_->registers, impl_->state_mutex, impl_->faults,
-                                  impl_->stream_rng};
-  const auto session = make_modbus_tcp_session(state);
+  const auto session = make_modbus_tcp_session(impl_->server_state(impl_->stream_rng));
   std::string input(received);
   std::deque<net::Outgoing> out;
   StreamReply reply;

@@ -2,21 +2,14 @@
 
 #include <cstdint>
 
+#include "tocd/mocks/vacuum_twin.hpp"
+
 namespace tocd::mocks {
 
-/// A pumped chamber: first-order pump-down with a constant leak, bang-bang regulation at the
-/// setpoint, a vent valve, and the controller's "setpoint not reached" error. Not thread-safe.
+/// The pumped chamber of VacuumTwinPhysics, without any protocol. Not thread-safe.
 class VacuumPhysics {
  public:
-  struct Params {
-    double atmosphere_kPa = 101.3;
-    double ultimate_kPa = 0.5;
-    double pump_time_constant_s = 4.0;
-    double leak_kPa_per_s = 0.05;
-    double vent_time_constant_s = 0.5;
-    double seal_loss_leak_kPa_per_s = 40.0;
-    double setpoint_timeout_s = 60.0;
-  };
+  using Params = VacuumTwinPhysics;
   explicit VacuumPhysics(Params p);
 
   void advance(double t_s);

@@ -18,10 +18,10 @@
 
 #include "modbus_server/identity.hpp"
 #include "modbus_server/register_server.hpp"
+#include "modbus_server/twin_state.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/devices/register_codec.hpp"
 #include "tocd/devices/vacuum_registers.hpp"
-#include "tocd/mocks/sim_clock.hpp"
 #include "vacuum/vacuum_physics.hpp"
 
 namespace tocd::mocks {
@@ -30,12 +30,12 @@ namespace vm = tocd::devices::vacuum_map;
 
 namespace {
 
-class VacuumRegisters final : public RegisterDevice {
+class VacuumRegisters final : public PhysicsRegisters<VacuumPhysics> {
  public:
-  VacuumRegisters(VacuumPhysics& physics, const SimClock& clock) : physics_(physics), clock_(clock) {}
+  using PhysicsRegisters::PhysicsRegisters;
 
   void refresh(modbus_mapping_t& map) override {
-    physics_.advance(static_cast<double>(clock_.now_ns()) * 1e-9);
+    advance_to_now();
     std::uint16_t* in = map.tab_input_registers;
     put_float(in, vm::in_pressure, physics_.pressure_kPa());
     put_float(in, vm::in_setpoint, physics_.setpoint_kPa());
@@ -76,47 +76,22 @@ class VacuumRegisters final : public RegisterDevice {
     }
     refresh(map);
   }
-
- private:
-  VacuumPhysics& physics_;
-  const SimClock& clock_;
 };
-
-VacuumPhysics::Params physics_params(const VacuumTwinOptions& o) {
-  VacuumPhysics::Params p;
-  p.atmosphere_kPa = o.atmosphere_kPa;
-  p.ultimate_kPa = o.ultimate_kPa;
-  p.pump_time_constant_s = o.pump_time_constant_s;
-  p.leak_kPa_per_s = o.leak_kPa_per_s;
-  p.vent_time_constant_s = o.vent_time_constant_s;
-  p.seal_loss_leak_kPa_per_s = o.seal_loss_leak_kPa_per_s;
-  p.setpoint_timeout_s = o.setpoint_timeout_s;
-  return p;
-}
 
 }  // namespace
 
-struct VacuumTwin::Impl {
+struct VacuumTwin::Impl : TwinState<VacuumPhysics, VacuumRegisters> {
   VacuumTwinOptions opt;
-  std::shared_ptr<const SimClock> clock;
-  VacuumPhysics physics;
-  VacuumRegisters registers;
-  std::mutex state_mutex;
-  FaultQueue faults;
   int master_fd = -1, slave_fd = -1;
   std::string path;
   modbus_t* ctx = nullptr;
-  modbus_mapping_t* map = nullptr;
   std::atomic<bool> stop{false};
   std::thread thread;
   std::mt19937_64 rng{7};
   std::mt19937_64 frame_rng{11};  // serve_frame's, apart from the server thread's
 
   explicit Impl(VacuumTwinOptions o)
-      : opt(std::move(o)),
-        clock(opt.clock ? opt.clock : std::make_shared<SimClock>(1.0)),
-        physics(physics_params(opt)),
-        registers(physics, *clock) {
+      : TwinState(o.clock, o.physics, vm::holding_count, vm::input_count, "vacuum twin"), opt(std::move(o)) {
     if (opt.slave_id < 1 || opt.slave_id > 247)
       throw ConfigError(fmt::format("vacuum twin: slave id must be 1..247 (got {})", opt.slave_id));
     char name[128] = {};
@@ -128,8 +103,6 @@ struct VacuumTwin::Impl {
     tcgetattr(slave_fd, &t);
     cfmakeraw(&t);  // bytes pass untouched, as on a real serial line
     tcsetattr(slave_fd, TCSANOW, &t);
-    map = modbus_mapping_new(0, 0, vm::holding_count, vm::input_count);
-    if (!map) throw Error("vacuum twin: cannot allocate registers");
     write_identity_block(map->tab_input_registers, vm::map_version, "tocdlab",
                          "simulated pump controller VC-1", "SIMVAC01", "1.0.0");
     put_float(map->tab_registers, vm::hr_setpoint, physics.setpoint_kPa());
@@ -153,7 +126,6 @@ struct VacuumTwin::Impl {
     stop = true;
     if (thread.joinable()) thread.join();
     modbus_free(ctx);
-    modbus_mapping_free(map);
     ::close(master_fd);
     ::close(slave_fd);
   }
@@ -204,9 +176,7 @@ devices::ModbusRtuAddress VacuumTwin::address() const {
 }
 
 double VacuumTwin::pressure_kPa() const {
-  std::lock_guard lock(impl_->state_mutex);
-  impl_->physics.advance(static_cast<double>(impl_->clock->now_ns()) * 1e-9);
-  return impl_->physics.pressure_kPa();
+  return impl_->at_now(&VacuumPhysics::pressure_kPa);
 }
 
 void VacuumTwin::inject(const ModbusFault& fault) {
@@ -214,8 +184,7 @@ void VacuumTwin::inject(const ModbusFault& fault) {
 }
 
 void VacuumTwin::inject_seal_loss(bool lost) {
-  std::lock_guard lock(impl_->state_mutex);
-  impl_->physics.set_seal_lost(lost);
+  impl_->locked([lost](VacuumPhysics& p) { p.set_seal_lost(lost); });
 }
 
 int VacuumTwin::faults_pending() const {

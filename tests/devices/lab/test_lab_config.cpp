@@ -1,13 +1,14 @@
 // Lab TOML parsing: fields, defaults, round trip, and errors that name the line and key.
 #include <filesystem>
-#include <fstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include "tocd/core/error.hpp"
 #include "tocd/devices/lab.hpp"
+#include "tocd/test/files.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 using namespace tocd::devices;
 
@@ -121,28 +122,23 @@ TEST(LabConfig, PushToIsReadAndWrittenBack) {
 }
 
 TEST(LabConfig, ErrorsNameLineAndKey) {
-  std::string e = error_of("[tester]\nhost = \"h\"\nport = 99999\n");
-  EXPECT_NE(e.find("lab.toml:3"), std::string::npos) << e;
-  EXPECT_NE(e.find("[tester] port"), std::string::npos) << e;
-  EXPECT_NE(e.find("1..65535"), std::string::npos) << e;
-
-  e = error_of("[tester]\nhost = \"h\"\nprot = 5\n");
-  EXPECT_NE(e.find("lab.toml:3: [tester] prot: unknown key"), std::string::npos) << e;
-
-  e = error_of("[tester]\nport = 5\n");
-  EXPECT_NE(e.find("host: is required"), std::string::npos) << e;
-
-  e = error_of("[vacuum]\ndevice = \"/dev/x\"\nparity = \"Q\"\n");
-  EXPECT_NE(e.find("lab.toml:3: [vacuum] parity"), std::string::npos) << e;
-
-  e = error_of("[power_meter]\ntransport = \"gpib\"\n");
-  EXPECT_NE(e.find("transport: must be \"scpi-tcp\" or \"usbtmc\""), std::string::npos) << e;
-
-  e = error_of("[tester]\nhost = 5\n");
-  EXPECT_NE(e.find("host: must be a string"), std::string::npos) << e;
-
-  e = error_of("[tester]\nhost = \"h\"\ntimeout_s = -1\n");
-  EXPECT_NE(e.find("timeout_s"), std::string::npos) << e;
+  // Each file, and what its error message must say.
+  const struct {
+    const char* toml;
+    std::vector<std::string> says;
+  } cases[] = {
+      {"[tester]\nhost = \"h\"\nport = 99999\n", {"lab.toml:3", "[tester] port", "1..65535"}},
+      {"[tester]\nhost = \"h\"\nprot = 5\n", {"lab.toml:3: [tester] prot: unknown key"}},
+      {"[tester]\nport = 5\n", {"host: is required"}},
+      {"[vacuum]\ndevice = \"/dev/x\"\nparity = \"Q\"\n", {"lab.toml:3: [vacuum] parity"}},
+      {"[power_meter]\ntransport = \"gpib\"\n", {"transport: must be \"scpi-tcp\" or \"usbtmc\""}},
+      {"[tester]\nhost = 5\n", {"host: must be a string"}},
+      {"[tester]\nhost = \"h\"\ntimeout_s = -1\n", {"timeout_s"}},
+  };
+  for (const auto& c : cases) {
+    const std::string e = error_of(c.toml);
+    for (const auto& part : c.says) EXPECT_NE(e.find(part), std::string::npos) << c.toml << "\n-> " << e;
+  }
 }
 
 TEST(LabConfig, UnknownInstrumentKindIsNamed) {
@@ -170,25 +166,23 @@ std::string load_error(const std::filesystem::path& path) {
 }
 
 TEST(LabConfig, EmptyFileDirectoryAndNoInstrumentsAreRefused) {
-  const auto dir = std::filesystem::temp_directory_path() / ("tocd_lab_cfg_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
+  const tocd::test::TempDir dir("lab_cfg");
   const std::string as_dir = load_error(dir);
-  EXPECT_NE(as_dir.find(dir.string() + " is a directory, not a file"), std::string::npos) << as_dir;
+  EXPECT_NE(as_dir.find(dir.path().string() + " is a directory, not a file"), std::string::npos) << as_dir;
 
-  std::ofstream(dir / "empty.toml").flush();
+  ASSERT_TRUE(tocd::test::write_file(dir / "empty.toml", ""));
   const std::string empty = load_error(dir / "empty.toml");
   EXPECT_NE(empty.find("empty.toml is empty"), std::string::npos) << empty;
-  std::ofstream(dir / "blank.toml") << "\n  \n\t\n";
+  ASSERT_TRUE(tocd::test::write_file(dir / "blank.toml", "\n  \n\t\n"));
   EXPECT_NE(load_error(dir / "blank.toml").find("blank.toml is empty"), std::string::npos);
 
-  std::ofstream(dir / "name_only.toml") << "# a rig\n[lab]\nname = \"rig\"\n";
+  ASSERT_TRUE(tocd::test::write_file(dir / "name_only.toml", "# a rig\n[lab]\nname = \"rig\"\n"));
   const std::string none = load_error(dir / "name_only.toml");
   EXPECT_NE(none.find("name_only.toml: no instruments"), std::string::npos) << none;
   EXPECT_NE(error_of("").find("lab.toml: no instruments"), std::string::npos);
 
-  std::ofstream(dir / "big.toml") << std::string((1 << 20) + 10, '#');
+  ASSERT_TRUE(tocd::test::write_file(dir / "big.toml", std::string((1 << 20) + 10, '#')));
   EXPECT_NE(load_error(dir / "big.toml").find("larger than 1048576 bytes"), std::string::npos);
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

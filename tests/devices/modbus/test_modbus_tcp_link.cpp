@@ -54,7 +54,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 TEST(ModbusTcpAddressing, SimulatedTesterByHostNameLocalhost) {
   tocd::mocks::TesterTwinOptions o;
   o.clock = std::make_shared<tocd::mocks::SimClock>(50.0);
-  o.tissue = tocd::mocks::make_analytic_tissue(2.5);
+  o.physics.tissue = tocd::mocks::make_analytic_tissue(2.5);
   tocd::mocks::TesterTwin twin(o);
   dev::ModbusTcpAddress a = twin.address();
   a.host = "localhost";

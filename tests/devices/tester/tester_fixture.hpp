@@ -20,8 +20,8 @@ class TesterTest : public ::testing::Test {
     clock_ = std::make_shared<tocd::mocks::SimClock>(kClockFactor);
     tocd::mocks::TesterTwinOptions o;
     o.clock = clock_;
-    o.tissue = tocd::mocks::make_analytic_tissue(2.5);
-    o.load_noise_N = 0.0;
+    o.physics.tissue = tocd::mocks::make_analytic_tissue(2.5);
+    o.physics.load_noise_N = 0.0;
     twin_ = std::make_unique<tocd::mocks::TesterTwin>(o);
     tester_ = tocd::devices::connect_modbus_tcp_tester(twin_->address(), options());
   }

@@ -80,7 +80,7 @@ float float_at(const std::uint8_t* p) {
 
 TEST(DirectServing, TesterAnswersPipelinedFramesAndKeepsAnIncompleteOne) {
   tocd::mocks::TesterTwinOptions o;
-  o.max_travel_mm = 7.5;
+  o.physics.max_travel_mm = 7.5;
   TesterTwin tester(o);
   namespace m = tocd::devices::tester_map;
   const std::string first = mbap(0x1234, read_holding(m::hr_max_travel, 2));

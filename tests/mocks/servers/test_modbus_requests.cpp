@@ -31,8 +31,8 @@ class ModbusRequests : public ::testing::Test {
   void SetUp() override {
     tocd::mocks::TesterTwinOptions o;
     o.clock = std::make_shared<tocd::mocks::SimClock>(50.0);
-    o.tissue = tocd::mocks::make_analytic_tissue(2.5);
-    o.load_noise_N = 0.0;
+    o.physics.tissue = tocd::mocks::make_analytic_tissue(2.5);
+    o.physics.load_noise_N = 0.0;
     twin_ = std::make_unique<tocd::mocks::TesterTwin>(o);
     client_ = std::make_unique<RawClient>(twin_->port());
     ASSERT_TRUE(client_->connected());

@@ -46,7 +46,7 @@ tocd::mocks::ServerLimits quick_limits() {
 
 std::unique_ptr<tocd::mocks::TesterTwin> tester_twin(tocd::mocks::ServerLimits limits) {
   tocd::mocks::TesterTwinOptions o;
-  o.tissue = tocd::mocks::make_analytic_tissue(2.5);
+  o.physics.tissue = tocd::mocks::make_analytic_tissue(2.5);
   o.limits = limits;
   return std::make_unique<tocd::mocks::TesterTwin>(o);
 }

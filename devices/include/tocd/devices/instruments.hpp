@@ -16,6 +16,15 @@ struct Identity {
   std::string firmware;
 };
 
+/// What every instrument driver answers, whatever the instrument measures.
+class Instrument {
+ public:
+  virtual ~Instrument() = default;
+  /// The channels this driver reads (its capability table); static data, any thread.
+  virtual const InstrumentCapabilities& describe() const = 0;
+  virtual Identity identity() = 0;
+};
+
 /// Status bits of the mechanical tester.
 struct TesterStatus {
   bool ready = false;
@@ -37,12 +46,8 @@ struct TesterReading {
 
 /// The servo-electric load frame that drives the pin. Drivers bound every wait and raise
 /// DeviceError subclasses; they are not thread-safe (one poller owns one driver).
-class MechanicalTester {
+class MechanicalTester : public Instrument {
  public:
-  virtual ~MechanicalTester() = default;
-  /// The channels this driver reads (its capability table); static data, any thread.
-  virtual const InstrumentCapabilities& describe() const = 0;
-  virtual Identity identity() = 0;
   virtual TesterReading read() = 0;
   /// Starts a move to `position_mm` at `velocity_mm_per_s`; returns at once (poll read()).
   virtual void move_to(double position_mm, double velocity_mm_per_s) = 0;
@@ -61,12 +66,8 @@ struct PowerReading {
 };
 
 /// The optical power meter under the glass slide (USBTMC or SCPI over TCP).
-class PowerMeter {
+class PowerMeter : public Instrument {
  public:
-  virtual ~PowerMeter() = default;
-  /// The channels this driver reads (its capability table); static data, any thread.
-  virtual const InstrumentCapabilities& describe() const = 0;
-  virtual Identity identity() = 0;
   virtual std::string sensor_identity() = 0;
   virtual void set_wavelength_nm(double nm) = 0;
   virtual void set_auto_range(bool on) = 0;
@@ -87,12 +88,8 @@ struct VacuumReading {
 };
 
 /// The vacuum pump controller of a TOCD (Modbus RTU on a serial line).
-class VacuumController {
+class VacuumController : public Instrument {
  public:
-  virtual ~VacuumController() = default;
-  /// The channels this driver reads (its capability table); static data, any thread.
-  virtual const InstrumentCapabilities& describe() const = 0;
-  virtual Identity identity() = 0;
   virtual VacuumReading read() = 0;
   virtual void set_setpoint_kPa(double kPa) = 0;
   virtual void run_pump(bool on) = 0;

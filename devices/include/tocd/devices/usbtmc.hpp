@@ -96,8 +96,10 @@ class Link final : public ScpiLink {
   std::uint8_t take_tag() noexcept;
   std::vector<std::uint8_t> control(std::uint8_t type, std::uint8_t request, std::uint16_t value,
                                     std::uint16_t index, std::uint16_t length, Clock::time_point deadline);
-  void abort_bulk_out(std::uint8_t tag, Clock::time_point deadline) noexcept;
-  void abort_bulk_in(std::uint8_t tag, Clock::time_point deadline) noexcept;
+  enum class Bulk { out, in };
+  /// INITIATE_ABORT_BULK_OUT or _IN for transfer `tag`, then its CHECK_ABORT_..._STATUS while
+  /// pending (USBTMC 4.2.1.2 to 4.2.1.5); after an OUT abort, CLEAR_FEATURE on the OUT halt.
+  void abort_bulk(Bulk direction, std::uint8_t tag, Clock::time_point deadline) noexcept;
   [[noreturn]] void fail(LinkFailure kind, const std::string& what);
 
   UsbEndpointOpener opener_;

@@ -14,23 +14,35 @@ namespace tocd::mocks {
 
 class SimClock;
 
-struct TesterTwinOptions {
-  std::shared_ptr<TissueModel> tissue;    ///< default: make_analytic_tissue(2.5)
-  std::shared_ptr<const SimClock> clock;  ///< default: a real-time clock
-  std::string host = "127.0.0.1";
-  int port = 0;  ///< 0 = any free port (see TesterTwin::port())
-  int slave_id = 1;
-  double contact_position_mm = 1.0;  ///< pin touches the sample surface here
+/// The load frame and the sample under its pin, as the twin's physics simulates them
+/// (mocks/src/tester/tester_physics.hpp). One struct for the twin's options and the physics, so
+/// that every setting reaches the physics without a copy to keep in step.
+struct TesterTwinPhysics {
+  std::shared_ptr<TissueModel> tissue;  ///< default: make_analytic_tissue(2.5)
+  double contact_position_mm = 1.0;     ///< pin touches the sample surface here
   double max_travel_mm = 10.0;
   double max_load_N = 50.0;
+  /// The frame's stroke and the load cell's capacity: no limit can be set beyond them.
+  double travel_range_mm = 100.0;
+  double load_capacity_N = 500.0;
   double load_noise_N = 0.002;       ///< load-cell noise (1 sigma)
+  double load_cell_offset_N = 0.05;  ///< what the cell reads unloaded before a tare
   double relaxation_fraction = 0.3;  ///< extra stress carried while moving (standard linear solid)
   double relaxation_time_s = 20.0;   ///< time constant of stress relaxation while holding
   /// Time constant of the drained displacement (first-order drainage; the simulated lab's
   /// delayed clearing follows it).
-  double delayed_clearing_time_s = 20.0;
+  double drained_time_s = 20.0;
   double max_velocity_mm_per_s = 20.0;
-  std::uint64_t seed = 1;
+  double home_velocity_mm_per_s = 5.0;
+  std::uint64_t seed = 1;  ///< the load-cell noise's; the twin's serial number and fault draws too
+};
+
+struct TesterTwinOptions {
+  std::shared_ptr<const SimClock> clock;  ///< default: a real-time clock
+  std::string host = "127.0.0.1";
+  int port = 0;  ///< 0 = any free port (see TesterTwin::port())
+  int slave_id = 1;
+  TesterTwinPhysics physics;
   ServerLimits limits;  ///< what the Modbus TCP server grants each client (docs/security.md)
 };
 
@@ -52,7 +64,7 @@ class TesterTwin {
   double position_mm() const;
   double displacement_mm() const;
   /// The displacement whose water content the sample has reached: it follows displacement_mm()
-  /// with delayed_clearing_time_s (first-order drainage, docs/instruments/simulated-lab.md).
+  /// with physics.drained_time_s (first-order drainage, docs/instruments/simulated-lab.md).
   double drained_displacement_mm() const;
 
   // Fault hooks.

@@ -13,9 +13,10 @@ namespace tocd::mocks {
 
 class SimClock;
 
-struct VacuumTwinOptions {
-  std::shared_ptr<const SimClock> clock;  ///< default: a real-time clock
-  int slave_id = 1;
+/// The pumped chamber as the twin's physics simulates it (mocks/src/vacuum/vacuum_physics.hpp):
+/// first-order pump-down with a constant leak, bang-bang regulation at the setpoint, a vent
+/// valve, and the controller's "setpoint not reached" error.
+struct VacuumTwinPhysics {
   double atmosphere_kPa = 101.3;
   double ultimate_kPa = 0.5;          ///< best the pump reaches with no leak
   double pump_time_constant_s = 4.0;  ///< chamber volume / pumping speed
@@ -23,6 +24,12 @@ struct VacuumTwinOptions {
   double vent_time_constant_s = 0.5;
   double seal_loss_leak_kPa_per_s = 40.0;  ///< leak after inject_seal_loss()
   double setpoint_timeout_s = 60.0;        ///< pumping this long without reaching the setpoint = error 1
+};
+
+struct VacuumTwinOptions {
+  std::shared_ptr<const SimClock> clock;  ///< default: a real-time clock
+  int slave_id = 1;
+  VacuumTwinPhysics physics;
 };
 
 /// The simulated vacuum pump controller: a libmodbus Modbus RTU server on the master side of a
