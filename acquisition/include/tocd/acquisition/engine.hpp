@@ -17,10 +17,7 @@
 namespace tocd::acquisition {
 
 /// A run that cannot start or continue: missing instrument, bad baseline, run not resumable.
-class EngineError : public Error {
- public:
-  using Error::Error;
-};
+using EngineError = ErrorOf<struct EngineRun, Error>;
 
 /// Where the engine is. Terminal states: completed, aborted, interrupted, failed.
 enum class EngineState {

@@ -12,10 +12,7 @@ namespace tocd::acquisition {
 
 /// A protocol file that cannot be run as written. The message starts with "<file>:<line>:"
 /// and names the offending key, e.g. "demo.toml:14: [steps] hold_s: must be >= 0, got -1".
-class ProtocolError : public ConfigError {
- public:
-  using ConfigError::ConfigError;
-};
+using ProtocolError = ErrorOf<struct ProtocolInput>;
 
 /// Limits of protocol numbers that the engine and its tests rely on (docs/acquisition.md has
 /// the range of every key).

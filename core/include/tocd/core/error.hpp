@@ -18,6 +18,15 @@ class ConfigError : public Error {
   using Error::Error;
 };
 
+/// A module's own kind of error: a type of its own to catch (told apart by the tag `Module`),
+/// derived from `Base` (ConfigError for bad input, Error for what is not the input's fault),
+/// with nothing more to write per module. E.g. `using FeError = ErrorOf<struct FeModule>;`.
+template <class Module, class Base = ConfigError>
+class ErrorOf : public Base {
+ public:
+  using Base::Base;
+};
+
 /// Work stopped on request (an operator's abort, a signal) before it finished: not a fault of
 /// the input. Whoever asked for the stop knows why; the message says where the work stood.
 class Cancelled : public Error {

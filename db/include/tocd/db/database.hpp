@@ -13,10 +13,7 @@ namespace tocd::db {
 
 /// A database file that cannot be opened, is not a tocdlab database, comes from a newer
 /// schema, or a request the stored data cannot satisfy (unknown run, wrong run state).
-class DatabaseError : public Error {
- public:
-  using Error::Error;
-};
+using DatabaseError = ErrorOf<struct DatabaseModule, Error>;
 
 /// Where an interrupted run continues (Database::resume_run).
 struct ResumePoint {

@@ -8,10 +8,7 @@
 namespace tocd::sim::fe {
 
 /// Bad model input (names the field and the value found).
-class FeError : public tocd::ConfigError {
- public:
-  using tocd::ConfigError::ConfigError;
-};
+using FeError = tocd::ErrorOf<struct FeModule>;
 
 /// Coordinates r-z: r >= 0 radial (x for the plane kinematics, with a symmetry plane at
 /// x = 0), z up; slide top (skin bottom) at z = 0, undeformed skin top at z = thickness_mm; the

@@ -14,10 +14,7 @@ namespace tocd::sim::geometry {
 /// The composite optical geometry cannot be built: a bad profile (non-monotonic, self-
 /// intersecting, outside the skin), sizes that do not fit, or TetGen rejecting the complex.
 /// The message names the surface at fault ("compressed outline 0", "skin top surface", ...).
-class GeometryError : public tocd::Error {
- public:
-  using tocd::Error::Error;
-};
+using GeometryError = tocd::ErrorOf<struct GeometryModule, tocd::Error>;
 
 /// A point of an r-z profile, mm (r >= 0 radial from the pin axis, z up, slide top at z = 0).
 struct ProfilePoint {

@@ -7,10 +7,7 @@
 namespace tocd::sim::material {
 
 /// Bad material parameters or data (names the parameter and the value found).
-class MaterialError : public tocd::ConfigError {
- public:
-  using tocd::ConfigError::ConfigError;
-};
+using MaterialError = tocd::ErrorOf<struct MaterialModule>;
 
 /// Ogden hyperelastic law exactly in the Abaqus form (units MPa):
 ///

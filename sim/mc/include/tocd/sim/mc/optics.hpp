@@ -10,10 +10,7 @@
 namespace tocd::sim::mc {
 
 /// Bad optical properties or optics file; the message names the file, region and key.
-class OpticsError : public tocd::ConfigError {
- public:
-  using tocd::ConfigError::ConfigError;
-};
+using OpticsError = tocd::ErrorOf<struct OpticsInput>;
 
 /// Optical properties of one region at the simulated wavelength.
 struct RegionOptics {

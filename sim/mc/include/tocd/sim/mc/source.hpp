@@ -10,10 +10,7 @@
 namespace tocd::sim::mc {
 
 /// A source that cannot light the mesh (misses it, unknown marker, bad syntax).
-class SourceError : public tocd::ConfigError {
- public:
-  using tocd::ConfigError::ConfigError;
-};
+using SourceError = tocd::ErrorOf<struct SourceInput>;
 
 /// How light enters the mesh. All beams are collimated and come from the ambient medium.
 /// A beam is the line through `origin` along `direction`: it enters at the first boundary

@@ -9,10 +9,7 @@
 namespace tocd::sim::poro {
 
 /// Bad biphasic model input (names the field and the value found).
-class PoroError : public tocd::ConfigError {
- public:
-  using tocd::ConfigError::ConfigError;
-};
+using PoroError = tocd::ErrorOf<struct PoroModule>;
 
 /// axisymmetric: x = r (axis at x = 0), volumes and forces for the full revolution;
 /// plane_strain: per mm of out-of-plane depth.
