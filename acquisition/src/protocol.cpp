@@ -10,6 +10,7 @@
 
 #include "tocd/acquisition/step_plan.hpp"
 #include "tocd/core/enum_names.hpp"
+#include "tocd/core/text_file.hpp"
 
 namespace tocd::acquisition {
 
@@ -403,11 +404,9 @@ Protocol parse_protocol(std::string_view toml_text, const std::string& source_na
 }
 
 Protocol load_protocol(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw ProtocolError(fmt::format("cannot read protocol file '{}'", path.string()));
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_protocol(ss.str(), path.string());
+  const auto text = read_text_file(path);
+  if (!text) throw ProtocolError(fmt::format("cannot read protocol file '{}'", path.string()));
+  return parse_protocol(*text, path.string());
 }
 
 }  // namespace tocd::acquisition

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "tocd/core/text_file.hpp"
 #include "tocd/sim/material/fit.hpp"
 
 namespace tocd::sim::material {
@@ -59,11 +60,9 @@ StressStrainData parse_stress_strain_csv(const std::string& text, const std::str
 }
 
 StressStrainData read_stress_strain_csv(const std::filesystem::path& path) {
-  std::ifstream f(path);
-  if (!f) throw MaterialError(fmt::format("cannot open stress-strain file {}", path.string()));
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return parse_stress_strain_csv(ss.str(), path.string());
+  const auto text = read_text_file(path);
+  if (!text) throw MaterialError(fmt::format("cannot open stress-strain file {}", path.string()));
+  return parse_stress_strain_csv(*text, path.string());
 }
 
 }  // namespace tocd::sim::material

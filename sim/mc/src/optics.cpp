@@ -7,6 +7,8 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include "tocd/core/text_file.hpp"
+
 namespace tocd::sim::mc {
 
 void validate(const Optics& optics, const std::string& where) {
@@ -80,11 +82,9 @@ Optics parse_optics_toml(const std::string& text, const std::string& name) {
 }
 
 Optics load_optics_toml(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw OpticsError(fmt::format("cannot open optics file {}", path.string()));
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parse_optics_toml(ss.str(), path.string());
+  const auto text = read_text_file(path);
+  if (!text) throw OpticsError(fmt::format("cannot open optics file {}", path.string()));
+  return parse_optics_toml(*text, path.string());
 }
 
 }  // namespace tocd::sim::mc

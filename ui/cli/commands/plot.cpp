@@ -18,6 +18,7 @@
 #include "output_paths.hpp"
 #include "tocd/acquisition/compare_table.hpp"
 #include "tocd/core/error.hpp"
+#include "tocd/core/text_file.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/plot/figures.hpp"
 #include "tocd/plot/inputs.hpp"
@@ -97,13 +98,11 @@ plot::CompareFigure compare_figure(const PlotOptions& o) {
 
 // The Ogden form from `tocdlab fit --json` output.
 tocd::sim::material::OgdenParameters ogden_from_fit_json(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw tocd::ConfigError("cannot read fit result '" + path + "'");
-  std::stringstream text;
-  text << in.rdbuf();
+  const auto text = tocd::read_text_file(path);
+  if (!text) throw tocd::ConfigError("cannot read fit result '" + path + "'");
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(text.str());
+    j = nlohmann::json::parse(*text);
   } catch (const nlohmann::json::parse_error& e) {
     throw tocd::ConfigError(path + ": not valid JSON (" + e.what() + ")");
   }

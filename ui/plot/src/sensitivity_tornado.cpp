@@ -12,12 +12,7 @@
 namespace tocd::plot {
 
 TornadoFigure parse_sensitivity_tornado(const std::string& json_text, const std::string& source) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(json_text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw ConfigError(source + ": not valid JSON (" + e.what() + ")");
-  }
+  nlohmann::json j = detail::parse_input_json(json_text, source);
   if (!j.is_object() || !j.contains("tornado") || !j["tornado"].is_array() || !j.contains("base"))
     throw ConfigError(source +
                       ": not a sensitivity study's JSON (expected \"base\" and \"tornado\"; write one with "

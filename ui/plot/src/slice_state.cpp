@@ -39,12 +39,7 @@ const nlohmann::json* writer_of(const nlohmann::json& j, const std::vector<std::
 
 std::string slice_state_title(const std::string& json_text, const std::vector<std::string>& slice_files,
                               const std::string& source) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(json_text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw ConfigError(source + ": not valid JSON (" + e.what() + ")");
-  }
+  nlohmann::json j = detail::parse_input_json(json_text, source);
   const nlohmann::json* w = writer_of(j, slice_files);
   if (w == nullptr || !w->contains("config") || !(*w)["config"].is_object())
     throw ConfigError(source +

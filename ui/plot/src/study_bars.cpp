@@ -57,12 +57,7 @@ std::string axis_label(const std::string& column, const nlohmann::json& j) {
 
 BarFigure parse_study_bars(const std::string& json_text, const std::string& column,
                            const std::string& source) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(json_text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw ConfigError(source + ": not valid JSON (" + e.what() + ")");
-  }
+  nlohmann::json j = detail::parse_input_json(json_text, source);
   if (!j.is_object() || j.value("kind", "") != "tocdlab.study" || !j.contains("simulations") ||
       !j["simulations"].is_array())
     throw ConfigError(source +
