@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "graded_levels.hpp"
 #include "json_keys.hpp"
 #include "json_whole_number.hpp"
 #include "tocd/core/error.hpp"
@@ -79,21 +80,27 @@ mc::Optics graded_optics(const GradedOptics& graded) {
   return o;
 }
 
-std::vector<std::size_t> assign_graded_regions(mesh::TetMesh& mesh, const GradedOptics& graded,
-                                               const std::function<double(double, double)>& min_log_strain) {
-  check(graded);
-  std::vector<std::size_t> counts(static_cast<std::size_t>(graded.bins) + 1, 0);
+std::vector<std::size_t> detail::assign_graded_levels(
+    mesh::TetMesh& mesh, int bins, const std::function<int(double r, double z)>& level_at) {
+  std::vector<std::size_t> counts(static_cast<std::size_t>(std::max(bins, 0)) + 1, 0);
   for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
     const auto region = mesh.regions[t];
     if (region != geo::Region::skin && region != geo::Region::compressed) continue;
     mesh::Point3 c{0, 0, 0};
     for (int v = 0; v < 4; ++v)
       for (int k = 0; k < 3; ++k) c[k] += 0.25 * mesh.nodes[static_cast<std::size_t>(mesh.tets[t][v])][k];
-    const int level = graded_level(min_log_strain(std::hypot(c[0], c[1]), c[2]), graded);
+    const int level = level_at(std::hypot(c[0], c[1]), c[2]);
     mesh.regions[t] = level == 0 ? geo::Region::skin : kGradedRegionBase + level;
     ++counts[static_cast<std::size_t>(level)];
   }
   return counts;
+}
+
+std::vector<std::size_t> assign_graded_regions(mesh::TetMesh& mesh, const GradedOptics& graded,
+                                               const std::function<double(double, double)>& min_log_strain) {
+  check(graded);
+  return detail::assign_graded_levels(
+      mesh, graded.bins, [&](double r, double z) { return graded_level(min_log_strain(r, z), graded); });
 }
 
 nlohmann::json to_json(const mc::RegionOptics& o) {

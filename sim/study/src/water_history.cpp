@@ -141,16 +141,9 @@ std::vector<WaterHistoryPoint> predict_water_history(const WaterHistoryRequest& 
     if (!failure.empty()) {
       mark_not_computed(p, failure);
     } else {
-      p.pin_force_N = solver.state().pin_force_N;
-      p.water_outflow_mm3 = solver.state().water_outflow_mm3;
       try {
-        const auto w = detail::water_transmission(solver, g, p.displacement_mm, mc);
+        detail::record_transmission(p, solver, g, p.displacement_mm, mc);
         p.computed = true;
-        p.T = w.T;
-        p.T_stderr = w.T_stderr;
-        p.tets_per_level = w.tets_per_level;
-        p.mesh_seconds = w.mesh_seconds;
-        p.mc_seconds = w.mc_seconds;
       } catch (const tocd::Error& e) {
         // A mesh of this state alone failed; the FE goes on, so later points may still come.
         mark_not_computed(p,
@@ -164,21 +157,13 @@ std::vector<WaterHistoryPoint> predict_water_history(const WaterHistoryRequest& 
 }
 
 nlohmann::json to_json(const WaterHistoryPoint& p) {
-  auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
   nlohmann::json j = {{"time_s", p.time_s}, {"displacement_mm", p.displacement_mm}, {"computed", p.computed}};
   if (!p.computed) {
     j["failure"] = p.failure;
     return j;
   }
-  j["T"] = num(p.T);
-  j["T_stderr"] = num(p.T_stderr);
-  j["pin_force_N"] = num(p.pin_force_N);
-  j["water_outflow_mm3"] = num(p.water_outflow_mm3);
+  add_to_json(j, p);
   j["fe_step_halvings"] = p.fe_step_halvings;
-  j["tets_per_level"] = p.tets_per_level;
-  j["fe_seconds"] = p.fe_seconds;
-  j["mesh_seconds"] = p.mesh_seconds;
-  j["mc_seconds"] = p.mc_seconds;
   return j;
 }
 

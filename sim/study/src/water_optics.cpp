@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "graded_levels.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/sim/geometry/composite.hpp"
 
@@ -46,18 +47,8 @@ mc::Optics water_optics(const WaterOptics& w) {
 
 std::vector<std::size_t> assign_water_regions(mesh::TetMesh& mesh, const WaterOptics& w,
                                               const std::function<double(double, double)>& water_fraction) {
-  std::vector<std::size_t> counts(static_cast<std::size_t>(std::max(w.graded.bins, 0)) + 1, 0);
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-    const auto region = mesh.regions[t];
-    if (region != geo::Region::skin && region != geo::Region::compressed) continue;
-    mesh::Point3 c{0, 0, 0};
-    for (int v = 0; v < 4; ++v)
-      for (int k = 0; k < 3; ++k) c[k] += 0.25 * mesh.nodes[static_cast<std::size_t>(mesh.tets[t][v])][k];
-    const int level = water_level(water_fraction(std::hypot(c[0], c[1]), c[2]), w);
-    mesh.regions[t] = level == 0 ? geo::Region::skin : kGradedRegionBase + level;
-    ++counts[static_cast<std::size_t>(level)];
-  }
-  return counts;
+  return detail::assign_graded_levels(
+      mesh, w.graded.bins, [&](double r, double z) { return water_level(water_fraction(r, z), w); });
 }
 
 }  // namespace tocd::sim::study

@@ -63,14 +63,7 @@ std::vector<WaterTimePoint> predict_water_time_course(const WaterTimeCourseReque
     if (t < r.ramp_s) advance(r.ramp_s, 10 * r.steps_per_interval);
     if (r.ramp_s + hold > t) advance(r.ramp_s + hold, r.steps_per_interval);
     p.fe_seconds = seconds_since(t0);
-    p.pin_force_N = solver.state().pin_force_N;
-    p.water_outflow_mm3 = solver.state().water_outflow_mm3;
-    const auto w = detail::water_transmission(solver, g, r.displacement_mm, mc);
-    p.tets_per_level = w.tets_per_level;
-    p.mesh_seconds = w.mesh_seconds;
-    p.mc_seconds = w.mc_seconds;
-    p.T = w.T;
-    p.T_stderr = w.T_stderr;
+    detail::record_transmission(p, solver, g, r.displacement_mm, mc);
     out.push_back(p);
     if (r.progress) r.progress(out.size(), r.times_s.size());
   }
@@ -78,15 +71,9 @@ std::vector<WaterTimePoint> predict_water_time_course(const WaterTimeCourseReque
 }
 
 nlohmann::json to_json(const WaterTimePoint& p) {
-  return {{"time_s", p.time_s},
-          {"T", p.T},
-          {"T_stderr", p.T_stderr},
-          {"pin_force_N", p.pin_force_N},
-          {"water_outflow_mm3", p.water_outflow_mm3},
-          {"tets_per_level", p.tets_per_level},
-          {"fe_seconds", p.fe_seconds},
-          {"mesh_seconds", p.mesh_seconds},
-          {"mc_seconds", p.mc_seconds}};
+  nlohmann::json j = {{"time_s", p.time_s}};
+  add_to_json(j, p);
+  return j;
 }
 
 }  // namespace tocd::sim::study

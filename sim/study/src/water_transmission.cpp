@@ -81,4 +81,32 @@ WaterTransmission water_transmission(const poro::PoroSolver& solver, const Water
   return out;
 }
 
+void record_transmission(WaterPointValues& p, const poro::PoroSolver& solver, const WaterPinGeometry& g,
+                         double pin_displacement_mm, const WaterMcSettings& s) {
+  p.pin_force_N = solver.state().pin_force_N;
+  p.water_outflow_mm3 = solver.state().water_outflow_mm3;
+  const WaterTransmission w = water_transmission(solver, g, pin_displacement_mm, s);
+  p.T = w.T;
+  p.T_stderr = w.T_stderr;
+  p.tets_per_level = w.tets_per_level;
+  p.mesh_seconds = w.mesh_seconds;
+  p.mc_seconds = w.mc_seconds;
+}
+
 }  // namespace tocd::sim::study::detail
+
+namespace tocd::sim::study {
+
+void add_to_json(nlohmann::json& j, const WaterPointValues& v) {
+  const auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); };
+  j["T"] = number(v.T);
+  j["T_stderr"] = number(v.T_stderr);
+  j["pin_force_N"] = number(v.pin_force_N);
+  j["water_outflow_mm3"] = number(v.water_outflow_mm3);
+  j["tets_per_level"] = v.tets_per_level;
+  j["fe_seconds"] = v.fe_seconds;
+  j["mesh_seconds"] = v.mesh_seconds;
+  j["mc_seconds"] = v.mc_seconds;
+}
+
+}  // namespace tocd::sim::study

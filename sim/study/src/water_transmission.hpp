@@ -13,6 +13,7 @@
 #include "tocd/sim/poro/model.hpp"
 #include "tocd/sim/poro/solver.hpp"
 #include "tocd/sim/study/water_optics.hpp"
+#include "tocd/sim/study/water_point.hpp"
 
 namespace tocd::sim::study::detail {
 
@@ -45,5 +46,10 @@ struct WaterTransmission {
 /// water levels from the FE field at each skin tet's centroid, photon Monte Carlo.
 WaterTransmission water_transmission(const poro::PoroSolver& solver, const WaterPinGeometry& g,
                                      double pin_displacement_mm, const WaterMcSettings& s);
+
+/// `p`'s pin force and outflow from the solver's current state, and T, its mesh's levels and
+/// their times from the transmission of that state (water_transmission above).
+void record_transmission(WaterPointValues& p, const poro::PoroSolver& solver, const WaterPinGeometry& g,
+                         double pin_displacement_mm, const WaterMcSettings& s);
 
 }  // namespace tocd::sim::study::detail

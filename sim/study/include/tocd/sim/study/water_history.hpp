@@ -10,6 +10,7 @@
 #include "tocd/sim/material/ogden.hpp"
 #include "tocd/sim/poro/model.hpp"
 #include "tocd/sim/study/water_optics.hpp"
+#include "tocd/sim/study/water_point.hpp"
 
 namespace tocd::sim::study {
 
@@ -49,17 +50,13 @@ struct WaterHistoryRequest {
   std::function<void(std::size_t, std::size_t)> progress;
 };
 
-struct WaterHistoryPoint {
+struct WaterHistoryPoint : WaterPointValues {
   double time_s = 0, displacement_mm = 0;
   /// false: the FE did not reach this time (or the mesh failed); `failure` says why, and the
-  /// numbers below are NaN.
+  /// numbers of WaterPointValues are NaN.
   bool computed = false;
   std::string failure;
-  double T = 0, T_stderr = 0;
-  double pin_force_N = 0, water_outflow_mm3 = 0;
   int fe_step_halvings = 0;  ///< since the previous time point
-  std::vector<std::size_t> tets_per_level;
-  double fe_seconds = 0, mesh_seconds = 0, mc_seconds = 0;
 };
 
 /// Throws tocd::ConfigError naming the bad field.

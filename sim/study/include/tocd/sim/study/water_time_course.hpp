@@ -10,6 +10,7 @@
 #include "tocd/sim/material/ogden.hpp"
 #include "tocd/sim/poro/model.hpp"
 #include "tocd/sim/study/water_optics.hpp"
+#include "tocd/sim/study/water_point.hpp"
 
 namespace tocd::sim::study {
 
@@ -37,12 +38,8 @@ struct WaterTimeCourseRequest {
   std::function<void(std::size_t, std::size_t)> progress;
 };
 
-struct WaterTimePoint {
+struct WaterTimePoint : WaterPointValues {
   double time_s = 0;  ///< since the start of the hold
-  double T = 0, T_stderr = 0;
-  double pin_force_N = 0, water_outflow_mm3 = 0;
-  std::vector<std::size_t> tets_per_level;
-  double fe_seconds = 0, mesh_seconds = 0, mc_seconds = 0;
 };
 
 /// Throws tocd::ConfigError naming the bad field.
