@@ -126,4 +126,23 @@ void check_numeric_syntax(CLI::App& app) {
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) check_numeric_syntax(*sub);
 }
 
+CLI::Option* add_photons_option(CLI::App& cmd, const std::string& name, std::uint64_t& photons,
+                                const std::string& help) {
+  return cmd.add_option(name, photons, help)
+      ->check(whole_in(std::uint64_t{1}, kMaxPhotons))
+      ->capture_default_str();
+}
+
+CLI::Option* add_seed_option(CLI::App& cmd, std::uint64_t& seed, const std::string& help) {
+  return cmd.add_option("--seed", seed, help)
+      ->check(whole_in(std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max()))
+      ->capture_default_str();
+}
+
+CLI::Option* add_threads_option(CLI::App& cmd, int& threads, const std::string& help) {
+  return cmd.add_option("--threads", threads, help)
+      ->check(whole_in(std::int64_t{0}, std::int64_t{kMaxThreads}))
+      ->capture_default_str();
+}
+
 }  // namespace tocd::cli

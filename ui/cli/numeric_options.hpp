@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -25,6 +26,14 @@ CLI::Validator real_in(double lo, double hi);
 /// Same as real_in but the lower end is excluded ("above 0 up to 100"): for sizes and
 /// factors where zero is meaningless.
 CLI::Validator real_above(double lo, double hi);
+
+/// The options every Monte Carlo command shares, with their ranges checked and their defaults
+/// shown: a photon count (1 to kMaxPhotons; `name` is --photons or a more specific one), the
+/// random seed (any 64-bit number) and the threads (0 = all cores, up to kMaxThreads).
+CLI::Option* add_photons_option(CLI::App& cmd, const std::string& name, std::uint64_t& photons,
+                                const std::string& help);
+CLI::Option* add_seed_option(CLI::App& cmd, std::uint64_t& seed, const std::string& help);
+CLI::Option* add_threads_option(CLI::App& cmd, int& threads, const std::string& help);
 
 /// Applied once, after every command declared its options: each option typed as an unsigned
 /// integer refuses negatives and anything but decimal digits (CLI11 would wrap "-5" to

@@ -23,6 +23,11 @@ bool progress_quiet() {
   return g_quiet;
 }
 
+void say_recording_into(std::int64_t run_id, std::size_t steps, const std::string& database) {
+  if (!progress_quiet())
+    std::cerr << fmt::format("run {} ({} steps) recording into {}", run_id, steps, database) << std::endl;
+}
+
 ProgressMode stderr_progress_mode() {
   if (g_quiet) return ProgressMode::off;
   return ::isatty(STDERR_FILENO) != 0 ? ProgressMode::bar : ProgressMode::lines;

@@ -5,6 +5,7 @@
 // or a pipe (logs stay readable), nothing with --quiet. Standard output never sees it.
 
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -26,6 +27,10 @@ bool progress_quiet();
 
 /// off with --quiet; bar when stderr is a terminal; lines otherwise.
 ProgressMode stderr_progress_mode();
+
+/// "run N (K steps) recording into DB" on stderr (not with --quiet): where a run that just
+/// started goes, for `run` and `demo` alike.
+void say_recording_into(std::int64_t run_id, std::size_t steps, const std::string& database);
 
 /// "1:05", "1:02:03"; "-" for an unknown (negative or non-finite) duration.
 std::string clock_text(double seconds);

@@ -75,9 +75,7 @@ void install_compare(CLI::App& root) {
                       "water optics: wall seconds the biphasic FE may take; points after are not computed")
           ->check(cli::real_above(0.0, 1e6))
           ->capture_default_str();
-  auto* seed = cmd->add_option("--seed", wc.seed, "water optics: Monte Carlo seed")
-                   ->check(cli::whole_in(std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max()))
-                   ->capture_default_str();
+  auto* seed = cli::add_seed_option(*cmd, wc.seed, "water optics: Monte Carlo seed");
   auto* mesh = cmd->add_option("--mesh", wc.mesh_preset, "water optics: composite mesh preset")
                    ->check(CLI::IsMember({"fast", "paper"}))
                    ->capture_default_str();

@@ -155,10 +155,7 @@ DemoRun record_demo(const DemoOptions& o, const acq::Protocol& protocol,
   acq::Engine& engine = lab_session.engine();
   const tocd::cli::AbortOnSignal::Attached attached(signals, engine);
   out.run_id = engine.start(protocol);
-  if (!cli::progress_quiet())
-    std::cerr << fmt::format("run {} ({} steps) recording into {}", out.run_id, protocol.steps.size(),
-                             tocd::db::display_location(o.db))
-              << std::endl;
+  cli::say_recording_into(out.run_id, protocol.steps.size(), tocd::db::display_location(o.db));
   phases.mark("run started");
   out.final_state = engine.wait();
   out.error = engine.error();
@@ -274,19 +271,11 @@ void install_demo(CLI::App& root) {
                   "measured vs. predicted table as CSV (default: the database name with .csv)")
       ->check(cli::output_file());
   cmd->add_option("--csv", o->csv, "deprecated: use -o FILE.csv")->check(cli::output_file())->group("");
-  cmd->add_option("--photons", o->photons, "Monte Carlo photons per predicted step")
-      ->check(cli::whole_in(std::uint64_t{1}, cli::kMaxPhotons))
-      ->capture_default_str();
-  cmd->add_option("--sample-photons", o->sample_photons,
-                  "Monte Carlo photons per point of the simulated sample's transmission curve")
-      ->check(cli::whole_in(std::uint64_t{1}, cli::kMaxPhotons))
-      ->capture_default_str();
-  cmd->add_option("--seed", o->seed, "random seed (predictions and instrument noise)")
-      ->check(cli::whole_in(std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max()))
-      ->capture_default_str();
-  cmd->add_option("--threads", o->threads, "Monte Carlo threads (0 = all cores)")
-      ->check(cli::whole_in(std::int64_t{0}, std::int64_t{cli::kMaxThreads}))
-      ->capture_default_str();
+  cli::add_photons_option(*cmd, "--photons", o->photons, "Monte Carlo photons per predicted step");
+  cli::add_photons_option(*cmd, "--sample-photons", o->sample_photons,
+                          "Monte Carlo photons per point of the simulated sample's transmission curve");
+  cli::add_seed_option(*cmd, o->seed, "random seed (predictions and instrument noise)");
+  cli::add_threads_option(*cmd, o->threads, "Monte Carlo threads (0 = all cores)");
   cmd->add_option("--clock-factor", o->clock_factor, "simulated seconds per real second")
       ->check(cli::real_above(0.0, 1e6))
       ->capture_default_str();

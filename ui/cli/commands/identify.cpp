@@ -9,6 +9,7 @@
 #include "command_registry.hpp"
 #include "db_location_option.hpp"
 #include "identify_report.hpp"
+#include "numeric_options.hpp"
 #include "output_naming.hpp"
 #include "tocd/analysis/identify_sample.hpp"
 #include "tocd/core/error.hpp"
@@ -67,10 +68,8 @@ void install_identify(CLI::App& root) {
   cmd->add_option("--photons", o->photons, "Monte Carlo photons per held step and evaluation of the optics")
       ->capture_default_str()
       ->check(CLI::Range(std::uint64_t{1000}, std::uint64_t{1000000000}));
-  cmd->add_option("--seed", o->seed, "random seed of the optics' Monte Carlo")->capture_default_str();
-  cmd->add_option("--threads", o->threads, "Monte Carlo threads (0: all cores)")
-      ->capture_default_str()
-      ->check(CLI::Range(0, 1024));
+  tocd::cli::add_seed_option(*cmd, o->seed, "random seed of the optics' Monte Carlo");
+  tocd::cli::add_threads_option(*cmd, o->threads, "Monte Carlo threads (0: all cores)");
   cmd->add_flag("--mechanics-only", o->mechanics_only, "identify the mechanics alone (no Monte Carlo)");
   cmd->add_flag("--no-optics", o->no_optics,
                 "the mechanics and the clearing's time course, not the optics (no Monte Carlo: seconds)");

@@ -113,15 +113,9 @@ void install_mc(CLI::App& root) {
   cmd->add_option("--source", o->source,
                   "pencil[:X,Y] | disk:[X,Y,]R | marker:N  (',nospec' = no entry specular)")
       ->capture_default_str();
-  cmd->add_option("--photons", o->photons, "photons to launch")
-      ->check(cli::whole_in(std::uint64_t{1}, cli::kMaxPhotons))
-      ->capture_default_str();
-  cmd->add_option("--seed", o->seed, "random seed")
-      ->check(cli::whole_in(std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max()))
-      ->capture_default_str();
-  cmd->add_option("--threads", o->threads, "threads (0 = all cores; results do not depend on it)")
-      ->check(cli::whole_in(std::int64_t{0}, std::int64_t{cli::kMaxThreads}))
-      ->capture_default_str();
+  cli::add_photons_option(*cmd, "--photons", o->photons, "photons to launch");
+  cli::add_seed_option(*cmd, o->seed, "random seed");
+  cli::add_threads_option(*cmd, o->threads, "threads (0 = all cores; results do not depend on it)");
   cmd->add_option("--batches", o->batches, "batches for standard errors")
       ->check(cli::whole_in(std::int64_t{2}, std::int64_t{1000000}))
       ->capture_default_str();

@@ -154,12 +154,8 @@ void add_step_options(CLI::App* cmd, PredictOptions& o) {
   cmd->add_option("--thickness", r.thickness_mm, "skin thickness (mm)")
       ->check(cli::real_above(0.0, 100.0))
       ->capture_default_str();
-  cmd->add_option("--photons", r.photons, "photons")
-      ->check(cli::whole_in(std::uint64_t{1}, cli::kMaxPhotons))
-      ->capture_default_str();
-  cmd->add_option("--seed", r.seed, "random seed")
-      ->check(cli::whole_in(std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max()))
-      ->capture_default_str();
+  cli::add_photons_option(*cmd, "--photons", r.photons, "photons");
+  cli::add_seed_option(*cmd, r.seed, "random seed");
   cmd->add_option("--optics", r.optics_model,
                   "optics model: threshold | graded | water (T over a hold: biphasic FE, water-content "
                   "optics; docs/water.md)")
@@ -181,9 +177,7 @@ void add_step_options(CLI::App* cmd, PredictOptions& o) {
   cmd->add_option("--pin-length", r.pin_length_mm, "pin length tip to top face (mm)")
       ->check(cli::real_above(0.0, 1000.0))
       ->capture_default_str();
-  cmd->add_option("--threads", r.threads, "Monte Carlo threads (0 = all cores)")
-      ->check(cli::whole_in(std::int64_t{0}, std::int64_t{cli::kMaxThreads}))
-      ->capture_default_str();
+  cli::add_threads_option(*cmd, r.threads, "Monte Carlo threads (0 = all cores)");
   cmd->add_flag("--baseline", r.baseline, "glass only: pin tip on the slide, no skin");
   cmd->add_option("--config", o.config_path,
                   "reproduce a prediction from its config JSON, its --json output, or a run's stored "

@@ -26,6 +26,7 @@
 #include "tocd/acquisition/protocol.hpp"
 #include "tocd/analysis/sim_step_predictor.hpp"
 #include "tocd/core/log.hpp"
+#include "tocd/core/text_file.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/location.hpp"
 #include "tocd/db/push.hpp"
@@ -49,11 +50,9 @@ struct RunOptions {
 };
 
 std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw tocd::ConfigError(fmt::format("cannot read lab config '{}'", path));
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  auto text = tocd::read_text_file(path);
+  if (!text) throw tocd::ConfigError(fmt::format("cannot read lab config '{}'", path));
+  return std::move(*text);
 }
 
 namespace acq = tocd::acquisition;
@@ -167,10 +166,7 @@ RunOutcome record(const RunOptions& o, tocd::db::Database& db, const acq::Protoc
   acq::Engine& engine = lab_session.engine();
   const tocd::cli::AbortOnSignal::Attached attached(signals, engine);
   out.run_id = o.resume ? engine.resume(*o.resume) : engine.start(protocol);
-  if (!cli::progress_quiet())
-    std::cerr << fmt::format("run {} ({} steps) recording into {}", out.run_id, protocol.steps.size(),
-                             tocd::db::display_location(o.db))
-              << std::endl;
+  cli::say_recording_into(out.run_id, protocol.steps.size(), tocd::db::display_location(o.db));
   phases.mark("run started");
   out.final_state = engine.wait();
   out.error = engine.error();
@@ -292,12 +288,9 @@ void install_run(CLI::App& root) {
             return tocd::db::is_server_uri(v) ? std::string() : "not a postgresql:// URI: " + v;
           },
           "URI"));
-  cmd->add_option("--photons", o->photons, "Monte Carlo photons per predicted step (FE + mesh + MC per step)")
-      ->check(cli::whole_in(std::uint64_t{1}, cli::kMaxPhotons))
-      ->capture_default_str();
-  cmd->add_option("--seed", o->seed, "random seed of the predictions (and of the simulated lab's noise)")
-      ->check(cli::whole_in(std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max()))
-      ->capture_default_str();
+  cli::add_photons_option(*cmd, "--photons", o->photons,
+                          "Monte Carlo photons per predicted step (FE + mesh + MC per step)");
+  cli::add_seed_option(*cmd, o->seed, "random seed of the predictions (and of the simulated lab's noise)");
   cmd->add_flag("--no-predict", o->no_predict, "record only; no simulator prediction per step");
   cmd->add_flag(
       "--json", o->json,

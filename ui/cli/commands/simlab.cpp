@@ -129,9 +129,7 @@ void install_simlab(CLI::App& root) {
   cmd->add_option("--thickness", o->thickness_mm, "sample thickness (mm)")
       ->check(cli::real_above(0.0, 100.0))
       ->capture_default_str();
-  cmd->add_option("--seed", o->seed, "noise seed")
-      ->check(cli::whole_in(std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max()))
-      ->capture_default_str();
+  cli::add_seed_option(*cmd, o->seed, "noise seed");
   cli::add_sample_options(*cmd, o->sample);
   cmd->add_option("--max-displacement", o->max_displacement_mm,
                   "deepest pin displacement the simulated sample is prepared for (mm; held beyond)")

@@ -91,21 +91,15 @@ void run(const StudyOptions& o, const std::vector<st::StudyCase>& cases, int ref
 }
 
 void add_common(CLI::App* cmd, StudyOptions& o) {
-  cmd->add_option("--photons", o.settings.photons, "photons per simulation")
-      ->check(cli::whole_in(std::uint64_t{1}, cli::kMaxPhotons))
-      ->capture_default_str();
+  cli::add_photons_option(*cmd, "--photons", o.settings.photons, "photons per simulation");
   cmd->add_option("--mesh", o.settings.mesh_preset, "mesh preset: fast | paper")
       ->check(CLI::IsMember({"fast", "paper"}))
       ->capture_default_str();
   cmd->add_option("--max-edge", o.settings.max_edge_mm, "override the preset's surface edge length (mm)")
       ->check(cli::real_above(0.0, 100.0));
-  cmd->add_option("--threads", o.settings.threads,
-                  "Monte Carlo threads (0 = all cores; results do not depend on it)")
-      ->check(cli::whole_in(std::int64_t{0}, std::int64_t{cli::kMaxThreads}))
-      ->capture_default_str();
-  cmd->add_option("--seed", o.settings.seed, "random seed (the same for every simulation)")
-      ->check(cli::whole_in(std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max()))
-      ->capture_default_str();
+  cli::add_threads_option(*cmd, o.settings.threads,
+                          "Monte Carlo threads (0 = all cores; results do not depend on it)");
+  cli::add_seed_option(*cmd, o.settings.seed, "random seed (the same for every simulation)");
   cmd->add_option("--batches", o.settings.batches, "batches for standard errors")
       ->check(cli::whole_in(std::int64_t{2}, std::int64_t{1000000}))
       ->capture_default_str();
@@ -182,18 +176,12 @@ void install_sensitivity(CLI::App* study) {
   cmd->add_option("--thickness", o->base.thickness_mm, "skin thickness (mm)")
       ->check(cli::real_above(0.0, 100.0))
       ->capture_default_str();
-  cmd->add_option("--photons", o->base.photons, "photons per simulation")
-      ->check(cli::whole_in(std::uint64_t{1}, cli::kMaxPhotons))
-      ->capture_default_str();
-  cmd->add_option("--seed", o->base.seed, "random seed (the same for every variant)")
-      ->check(cli::whole_in(std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max()))
-      ->capture_default_str();
+  cli::add_photons_option(*cmd, "--photons", o->base.photons, "photons per simulation");
+  cli::add_seed_option(*cmd, o->base.seed, "random seed (the same for every variant)");
   cmd->add_option("--batches", o->base.batches, "batches (the standard errors come from their spread)")
       ->check(cli::whole_in(std::int64_t{2}, std::int64_t{1000000}))
       ->capture_default_str();
-  cmd->add_option("--threads", o->base.threads, "batches run at once (0 = all cores)")
-      ->check(cli::whole_in(std::int64_t{0}, std::int64_t{cli::kMaxThreads}))
-      ->capture_default_str();
+  cli::add_threads_option(*cmd, o->base.threads, "batches run at once (0 = all cores)");
   cmd->add_option("--mesh", o->base.mesh_preset, "base mesh preset: fast | paper")
       ->check(CLI::IsMember({"fast", "paper"}))
       ->capture_default_str();
