@@ -2,6 +2,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -10,6 +11,7 @@
 #include "tocd/analysis/fitted_comparison.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/db/reader.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace an = tocd::analysis;
 namespace fs = std::filesystem;
@@ -19,28 +21,26 @@ namespace {
 class FittedComparison : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = fs::temp_directory_path() / ("tocd_fitted_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-    run_ = an::testing::write_predicted_run(dir_ / "lab.sqlite");
+    dir_ = std::make_unique<tocd::test::TempDir>("fitted");
+    run_ = an::testing::write_predicted_run(*dir_ / "lab.sqlite");
   }
-  static void TearDownTestSuite() { fs::remove_all(dir_); }
+  static void TearDownTestSuite() { dir_.reset(); }
 
   static std::string fit_file(const std::string& name, const std::string& text) {
-    const auto p = dir_ / name;
+    const auto p = *dir_ / name;
     std::ofstream(p) << text;
     return p.string();
   }
 
-  static fs::path dir_;
+  static inline std::unique_ptr<tocd::test::TempDir> dir_;  // the suite's, shared by its tests
   static std::int64_t run_;
 };
-fs::path FittedComparison::dir_;
 std::int64_t FittedComparison::run_ = 0;
 
 // The stored predictions were made with the published law; the same law from a fit file
 // re-makes them: same configs, same seeds, so the same numbers.
 TEST_F(FittedComparison, ThePublishedLawReproducesTheStoredPredictions) {
-  const tocd::db::Reader reader((dir_ / "lab.sqlite").string());
+  const tocd::db::Reader reader((*dir_ / "lab.sqlite").string());
   an::FittedComparisonOptions o;
   o.material = fit_file("same.json", an::testing::scaled_fit_json(1.0, {1.0}));
   const auto c = an::compare_with_fitted_law(reader, run_, o);
@@ -61,7 +61,7 @@ TEST_F(FittedComparison, ThePublishedLawReproducesTheStoredPredictions) {
 // c W), so the FE force at the same pin displacement is c times the default's: a closed-form
 // check of the force column. The band spans the confidence laws' T around the fitted T.
 TEST_F(FittedComparison, AStifferLawScalesTheForceAndBracketsItsTWithTheBand) {
-  const tocd::db::Reader reader((dir_ / "lab.sqlite").string());
+  const tocd::db::Reader reader((*dir_ / "lab.sqlite").string());
   an::FittedComparisonOptions o;
   o.material = fit_file("stiff.json", an::testing::scaled_fit_json(2.0, {1.6, 2.5}));
   int progress_lines = 0;
@@ -81,7 +81,7 @@ TEST_F(FittedComparison, AStifferLawScalesTheForceAndBracketsItsTWithTheBand) {
 }
 
 TEST_F(FittedComparison, AFileThatIsNoFitIsAClearError) {
-  const tocd::db::Reader reader((dir_ / "lab.sqlite").string());
+  const tocd::db::Reader reader((*dir_ / "lab.sqlite").string());
   an::FittedComparisonOptions o;
   o.material = fit_file("not_a_fit.json", R"({"mu": [1]})");
   try {
@@ -91,7 +91,7 @@ TEST_F(FittedComparison, AFileThatIsNoFitIsAClearError) {
     EXPECT_NE(std::string(e.what()).find("not_a_fit.json"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("tocdlab fit --method fe --json"), std::string::npos) << e.what();
   }
-  o.material = (dir_ / "missing.json").string();
+  o.material = (*dir_ / "missing.json").string();
   EXPECT_THROW(an::compare_with_fitted_law(reader, run_, o), tocd::ConfigError);
 }
 

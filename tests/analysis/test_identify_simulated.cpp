@@ -40,6 +40,7 @@
 #include "tocd/mocks/default_sample.hpp"
 #include "tocd/mocks/sample_truth.hpp"
 #include "tocd/mocks/simulated_lab.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 namespace a = tocd::analysis;
@@ -130,8 +131,7 @@ std::int64_t record_demo(const fs::path& db_path, const mocks::SampleTruth& trut
 }  // namespace
 
 TEST(IdentifySimulatedSamples, DeterminedParametersCoverTheDrawnTruth) {
-  const fs::path dir = fs::temp_directory_path() / fmt::format("tocd_identify_{}", ::getpid());
-  fs::create_directories(dir);
+  const tocd::test::TempDir dir("identify");
   std::map<std::string, int> determined, missed;
   const std::vector<int> samples = samples_to_identify();
   for (const int k : samples) {
@@ -177,5 +177,4 @@ TEST(IdentifySimulatedSamples, DeterminedParametersCoverTheDrawnTruth) {
                              samples.size(), missed[name]);
     EXPECT_LE(missed[name], allowed_misses(samples.size())) << name;
   }
-  fs::remove_all(dir);
 }

@@ -11,6 +11,7 @@
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
 #include "tocd/db/writer.hpp"
+#include "tocd/test/error_of.hpp"
 #include "tocd/test/files.hpp"
 #include "tocd/test/temp_dir.hpp"
 
@@ -26,12 +27,7 @@ using tocd::test::TempDir;
 using tocd::test::write_file;
 
 std::string error_of(const std::filesystem::path& p) {
-  try {
-    Database db(p);
-  } catch (const DatabaseError& e) {
-    return e.what();
-  }
-  return "";
+  return tocd::test::error_of<DatabaseError>([&] { Database db(p); });
 }
 
 // Creates an SQLite file with the raw C API (as another application would).

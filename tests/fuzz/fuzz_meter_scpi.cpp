@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "fast_meter.hpp"
 #include "fuzz_support.hpp"
 #include "tocd/devices/usbtmc.hpp"
 #include "tocd/mocks/power_meter_twin.hpp"
@@ -23,11 +24,8 @@ namespace usbtmc = tocd::devices::usbtmc;
 using tocd::devices::UsbStatus;
 
 tocd::mocks::PowerMeterTwinOptions options() {
-  tocd::mocks::PowerMeterTwinOptions o;
+  tocd::mocks::PowerMeterTwinOptions o = tocd::fuzz::fast_meter_options();
   o.power_W = [] { return 1e-3; };
-  // Simulated time runs a million times faster than real time, so that a zeroing or a
-  // long averaging never makes the fuzzer wait.
-  o.clock = std::make_shared<tocd::mocks::SimClock>(1e6);
   return o;
 }
 

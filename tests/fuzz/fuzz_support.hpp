@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "tocd/core/log.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace tocd::fuzz {
 
@@ -24,17 +25,8 @@ inline void quiet_logging() {
 
 /// A folder of this process under the system's temporary folder, removed at exit.
 inline const std::filesystem::path& scratch_dir() {
-  static const std::filesystem::path dir = [] {
-    auto d = std::filesystem::temp_directory_path() / ("tocd-fuzz-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(d);
-    std::atexit([] {
-      std::error_code ec;
-      std::filesystem::remove_all(
-          std::filesystem::temp_directory_path() / ("tocd-fuzz-" + std::to_string(::getpid())), ec);
-    });
-    return d;
-  }();
-  return dir;
+  static const tocd::test::TempDir dir("fuzz");
+  return dir.path();
 }
 
 inline void write_file(const std::filesystem::path& path, std::string_view bytes) {

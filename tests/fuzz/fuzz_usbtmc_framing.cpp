@@ -9,21 +9,15 @@
 #include <cstdlib>
 #include <span>
 
+#include "fast_meter.hpp"
 #include "fuzz_support.hpp"
 #include "tocd/devices/scpi_link.hpp"
 #include "tocd/devices/usbtmc.hpp"
 #include "tocd/mocks/power_meter_twin.hpp"
-#include "tocd/mocks/sim_clock.hpp"
 
 namespace {
 
 namespace usbtmc = tocd::devices::usbtmc;
-
-tocd::mocks::PowerMeterTwinOptions options() {
-  tocd::mocks::PowerMeterTwinOptions o;
-  o.clock = std::make_shared<tocd::mocks::SimClock>(1e6);  // no simulated wait is ever felt
-  return o;
-}
 
 }  // namespace
 
@@ -47,7 +41,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } catch (const tocd::devices::LinkError&) {
   }
 
-  tocd::mocks::PowerMeterTwin meter(options());  // fresh per input: a finding replays alone
+  tocd::mocks::PowerMeterTwin meter(
+      tocd::fuzz::fast_meter_options());  // fresh per input: a finding replays alone
   const auto endpoint = meter.open_usb_endpoint();
   const std::size_t chunk = 12 + 4 * (data[1] % 8);
   for (std::size_t at = 0; at < bytes.size(); at += chunk) {

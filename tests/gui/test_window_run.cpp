@@ -26,6 +26,7 @@
 #include "tocd/db/reader.hpp"
 #include "tocd/mocks/tissue.hpp"
 #include "tocd/test/files.hpp"
+#include "tocd/test/protocol_text.hpp"
 
 using namespace tocd;
 using namespace tocd::gui;
@@ -51,33 +52,19 @@ class FastPredictor : public acquisition::StepPredictor {
 // A short protocol of the window tests' own (the demo protocol's 7 steps with 2 s holds and
 // 5 s windows would make every test a minute long): the given steps, 0.5 s holds, 1 s windows,
 // a 100 Hz tester.
-QString short_protocol(const QString& steps = QStringLiteral("[0.25, 0.5, 0.75, 1.0, 1.25, 1.5]")) {
-  return QStringLiteral(R"(name = "window test pin compression"
-[sample]
-tissue = "simulated skin"
-thickness_mm = 2.5
-[baseline]
-power_W = 1.0e-3
-[motion]
-contact_position_mm = 1.0
-approach_speed_mm_per_s = 0.5
-retract_speed_mm_per_s = 2.0
-[steps]
-displacements_mm = %1
-hold_s = 0.5
-record_s = 1.0
-[settle]
-max_rate = 0.05
-window_s = 0.5
-max_wait_s = 8
-[rates]
-tester_Hz = 100
-power_Hz = 10
-pressure_Hz = 10
-[interlocks]
-max_load_N = 40
-)")
-      .arg(steps);
+QString short_protocol(const std::string& steps = "0.25, 0.5, 0.75, 1.0, 1.25, 1.5") {
+  tocd::test::PinProtocolText p;
+  p.name = "window test pin compression";
+  p.tissue = "simulated skin";
+  p.approach_speed_mm_per_s = 0.5;
+  p.retract_speed_mm_per_s = 2.0;
+  p.displacements_mm = steps;
+  p.settle->max_wait_s = 8;
+  p.tester_Hz = 100;
+  p.power_Hz = 10;
+  p.pressure_Hz = 10;
+  p.max_load_N = 40;
+  return QString::fromStdString(tocd::test::protocol_toml(p));
 }
 
 }  // namespace
@@ -149,7 +136,7 @@ void WindowRunTest::demo_run_fills_the_step_table_from_the_engine() {
   auto w = make_window();
   connect_simulated_lab(*w);
   QVERIFY(!w->actions().start->isEnabled());  // no protocol yet
-  next_file_ = write(QStringLiteral("three.toml"), short_protocol(QStringLiteral("[0.5, 1.0, 1.5]")));
+  next_file_ = write(QStringLiteral("three.toml"), short_protocol("0.5, 1.0, 1.5"));
   w->actions().open_protocol->trigger();
   QVERIFY(w->protocol().has_value());
   QCOMPARE(w->protocol()->steps.size(), std::size_t{3});

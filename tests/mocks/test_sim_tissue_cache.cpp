@@ -8,24 +8,18 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include "sim_tissue_cache_fixture.hpp"
 #include "tocd/mocks/sim_tissue.hpp"
 #include "tocd/mocks/sim_tissue_cache.hpp"
+#include "tocd/test/files.hpp"
 
 namespace fs = std::filesystem;
 namespace mocks = tocd::mocks;
 
 namespace {
 
-class SimTissueCache : public ::testing::Test {
+class SimTissueCache : public mocks::testing::SimTissueCacheFixture {
  protected:
-  void SetUp() override {
-    fs::remove_all(dir_);
-    spec_.displacements_mm = {0.5};
-    spec_.photons = 300;
-    spec_.threads = 1;
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   mocks::SimTissueTable table_for(const mocks::SimTissueSpec& s) {
     mocks::SimTissueTable t;
     for (std::size_t k = 0; k <= s.displacements_mm.size(); ++k) {
@@ -36,21 +30,9 @@ class SimTissueCache : public ::testing::Test {
     }
     return t;
   }
-
-  fs::path dir_ = fs::temp_directory_path() /
-                  fmt::format("tocd_sim_cache_{}_{}", ::getpid(),
-                              ::testing::UnitTest::GetInstance()->current_test_info()->name());
-  mocks::SimTissueSpec spec_;
 };
 
-void overwrite(const fs::path& p, const std::string& text) {
-  std::ofstream(p, std::ios::trunc) << text;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using tocd::test::read_file;
 
 }  // namespace
 
@@ -99,8 +81,8 @@ TEST_F(SimTissueCache, ForeignCorruptOrInconsistentEntriesAreRefused) {
 
   // Truncated mid-write by something other than tocdlab.
   mocks::store_sim_tissue_table(file, spec_, table_for(spec_));
-  const std::string good = slurp(file);
-  overwrite(file, good.substr(0, good.size() / 2));
+  const std::string good = read_file(file);
+  tocd::test::write_file(file, good.substr(0, good.size() / 2));
   EXPECT_FALSE(mocks::load_sim_tissue_table(file, spec_, why));
   EXPECT_NE(why.find("unreadable"), std::string::npos) << why;
 

@@ -9,33 +9,17 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include "sim_tissue_cache_fixture.hpp"
 #include "tocd/mocks/sim_tissue.hpp"
 #include "tocd/mocks/sim_tissue_cache.hpp"
+#include "tocd/test/files.hpp"
 
 namespace fs = std::filesystem;
 namespace mocks = tocd::mocks;
 
 namespace {
 
-class SimTissueCache : public ::testing::Test {
- protected:
-  void SetUp() override {
-    fs::remove_all(dir_);
-    spec_.displacements_mm = {0.5};
-    spec_.photons = 300;
-    spec_.threads = 1;
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  fs::path dir_ = fs::temp_directory_path() /
-                  fmt::format("tocd_sim_cache_{}_{}", ::getpid(),
-                              ::testing::UnitTest::GetInstance()->current_test_info()->name());
-  mocks::SimTissueSpec spec_;
-};
-
-void overwrite(const fs::path& p, const std::string& text) {
-  std::ofstream(p, std::ios::trunc) << text;
-}
+using SimTissueCache = mocks::testing::SimTissueCacheFixture;
 
 }  // namespace
 
@@ -54,7 +38,7 @@ TEST_F(SimTissueCache, PreparedOnceThenReadThenRebuiltWhenDamaged) {
   EXPECT_EQ(second.transmission, first.transmission);
   EXPECT_EQ(second.load_N, first.load_N);
 
-  overwrite(first.cache_file, "{\"key\": 1, ");  // damaged
+  tocd::test::write_file(first.cache_file, "{\"key\": 1, ");  // damaged
   (void)mocks::make_simulated_tissue(spec_, &third);
   EXPECT_FALSE(third.from_cache);
   EXPECT_EQ(third.transmission, first.transmission);  // same seed: the same tables again

@@ -15,18 +15,13 @@
 #include "tocd/core/error.hpp"
 #include "tocd/plot/figures.hpp"
 #include "tocd/plot/inputs.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace tocd::plot;
 using tocd::plot::testing::same_colour;
 
 namespace {
-
-fs::path out_file(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "tocd_test_plot";
-  fs::create_directories(dir);
-  return dir / name;
-}
 
 // Relative luminance (ITU-R BT.709 weights on the 8-bit values): ordering only.
 double luminance(QColor c) {
@@ -98,7 +93,7 @@ TEST(PlotRamp, LightnessRisesMonotonicallyFromViridisStartToEnd) {
 
 TEST(PlotBars, BarHeightsAreProportionalToTheValues) {
   const FigureSize size{600, 400};
-  const fs::path png = out_file("bars.png");
+  const fs::path png = tocd::test::process_temp_path("bars.png");
   write_figure(three_bars(), png, size);
   QImage img(QString::fromStdString(png.string()));
   ASSERT_FALSE(img.isNull());
@@ -134,7 +129,7 @@ TEST(PlotBars, BarHeightsAreProportionalToTheValues) {
 }
 
 TEST(PlotBars, SvgIsXmlWithOneFilledElementPerBar) {
-  const fs::path svg = out_file("bars.svg");
+  const fs::path svg = tocd::test::process_temp_path("bars.svg");
   BarFigure f = three_bars();
   f.labels.push_back("d");
   f.values.push_back(3.0);
@@ -153,7 +148,7 @@ TEST(PlotTornado, BarsRunBothWaysFromZeroAndUnresolvedOnesArePale) {
   f.values = {-0.010, 0.005, 0.0004};
   f.errors = {0.0004, 0.0004, 0.0004};
   const FigureSize size{800, 400};
-  const fs::path png = out_file("tornado.png");
+  const fs::path png = tocd::test::process_temp_path("tornado.png");
   write_figure(f, png, size);
   QImage img(QString::fromStdString(png.string()));
   ASSERT_FALSE(img.isNull());
@@ -188,10 +183,10 @@ TEST(PlotTornado, BarsRunBothWaysFromZeroAndUnresolvedOnesArePale) {
 TEST(PlotBars, RefusesNonFiniteValuesAndMismatchedLabels) {
   BarFigure f = three_bars();
   f.values[1] = NAN;
-  EXPECT_THROW(write_figure(f, out_file("x.png")), tocd::ConfigError);
+  EXPECT_THROW(write_figure(f, tocd::test::process_temp_path("x.png")), tocd::ConfigError);
   f = three_bars();
   f.labels.pop_back();
-  EXPECT_THROW(write_figure(f, out_file("x.png")), tocd::ConfigError);
+  EXPECT_THROW(write_figure(f, tocd::test::process_temp_path("x.png")), tocd::ConfigError);
 }
 
 namespace {
@@ -223,7 +218,7 @@ TEST(PlotSlices, LogColoursRegionOutlineNoDataAndMonotoneColourBar) {
   // The scale: 1 down to the smallest positive value (1e-4), less than the 6 decades asked.
   EXPECT_DOUBLE_EQ(layout.log10_max, 0.0);
   EXPECT_DOUBLE_EQ(layout.log10_min, -4.0);
-  const fs::path png = out_file("slices.png");
+  const fs::path png = tocd::test::process_temp_path("slices.png");
   write_figure(f, png, size);
   QImage img(QString::fromStdString(png.string()));
   ASSERT_FALSE(img.isNull());
@@ -263,7 +258,7 @@ TEST(PlotSlices, RefusesSlicesWithoutPositiveFluence) {
   for (double& v : s.fluence) v = 0.0;
   SliceFigure f;
   f.panels = {s};
-  EXPECT_THROW(write_figure(f, out_file("zero.png")), tocd::ConfigError);
+  EXPECT_THROW(write_figure(f, tocd::test::process_temp_path("zero.png")), tocd::ConfigError);
 }
 
 TEST(PlotCompare, SvgHasOneMarkerPerMeasuredAndPerPredictedStep) {
@@ -274,7 +269,7 @@ TEST(PlotCompare, SvgHasOneMarkerPerMeasuredAndPerPredictedStep) {
              {1, 1.0, 0.35, 0.36, 0.01},
              {2, 1.5, 0.41, nan, nan},
              {3, 2.0, nan, 0.45, 0.02}};
-  const fs::path svg = out_file("compare.svg");
+  const fs::path svg = tocd::test::process_temp_path("compare.svg");
   write_figure(f, svg);
   // Three measured steps and three predictions, plus one glyph of each in the legend.
   EXPECT_EQ(
@@ -296,14 +291,14 @@ TEST(PlotFit, SvgHasEveryDataPointAndTheCurve) {
     f.curve_stress_MPa.push_back(0.0105 * e * e);
   }
   f.curve_label = "law";
-  const fs::path svg = out_file("fit.svg");
+  const fs::path svg = tocd::test::process_temp_path("fit.svg");
   write_figure(f, svg);
   EXPECT_EQ(
       count_filled(svg, "ellipse", hex(kMeasuredColour)) + count_filled(svg, "circle", hex(kMeasuredColour)),
       12 + 1);
   // A PNG of the same: the curve's colour appears inside the chart area.
   const FigureSize size{640, 480};
-  const fs::path png = out_file("fit.png");
+  const fs::path png = tocd::test::process_temp_path("fit.png");
   write_figure(f, png, size);
   QImage img(QString::fromStdString(png.string()));
   const PixelRect a = chart_area(size);

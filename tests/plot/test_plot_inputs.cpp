@@ -6,18 +6,14 @@
 
 #include "tocd/core/error.hpp"
 #include "tocd/plot/inputs.hpp"
+#include "tocd/test/error_of.hpp"
 
 using namespace tocd::plot;
 
 namespace {
 
 std::string message_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const tocd::ConfigError& e) {
-    return e.what();
-  }
-  return "(no error)";
+  return tocd::test::error_of<tocd::ConfigError>(f);
 }
 
 }  // namespace

@@ -18,18 +18,13 @@
 #include "tocd/core/error.hpp"
 #include "tocd/plot/figures.hpp"
 #include "tocd/plot/inputs.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace tocd::plot;
 using tocd::plot::testing::same_colour;
 
 namespace {
-
-fs::path models_out_file(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "tocd_test_plot_models";
-  fs::create_directories(dir);
-  return dir / name;
-}
 
 std::string hex_of(Rgb c) {
   return QColor(c.r, c.g, c.b).name().toStdString();
@@ -204,7 +199,7 @@ TEST(PlotCompare, ErrorBarsAreCentredOnTheirMarkersForMeasuredAndPredicted) {
   EXPECT_TRUE(contains(l.legend[0], "\u00b11 standard error")) << l.legend[0];
   EXPECT_TRUE(contains(l.legend[1], "\u00b11 Monte Carlo standard error")) << l.legend[1];
   // On the picture: the bar's dark column is the marker's middle column.
-  const fs::path png = models_out_file("compare.png");
+  const fs::path png = tocd::test::process_temp_path("compare.png");
   write_figure(f, png, size);
   const QImage img(QString::fromStdString(png.string()));
   ASSERT_FALSE(img.isNull());
@@ -249,7 +244,7 @@ TEST(PlotTornado, TitleNamesTheStepAndTheKeyExplainsPaleAndDarkBars) {
   }
   EXPECT_FALSE(overlap(l.key_boxes[0], l.key_boxes[1]));
   // The picture's key shows both colours, in their boxes.
-  const fs::path png = models_out_file("tornado.png");
+  const fs::path png = tocd::test::process_temp_path("tornado.png");
   write_figure(f, png, size);
   const QImage img(QString::fromStdString(png.string()));
   const Rgb colours[2] = {kMeasuredColour, kUnresolvedColour};
@@ -304,7 +299,7 @@ TEST(PlotSlices, ScaleTopIsRobustToHotCellsAndEmptyCellsInsideAreNotOutside) {
   EXPECT_EQ(hex_of(slice_cell_colour(0.0, 4, l)), hex_of(fluence_ramp(0.0)));
   EXPECT_EQ(hex_of(slice_cell_colour(std::nan(""), 0, l)), hex_of(kNoDataColour));
   // On the picture: the empty cells are the ramp's bottom, the corner outside is grey.
-  const fs::path png = models_out_file("slices.png");
+  const fs::path png = tocd::test::process_temp_path("slices.png");
   write_figure(f, png, size);
   const QImage img(QString::fromStdString(png.string()));
   ASSERT_FALSE(img.isNull());

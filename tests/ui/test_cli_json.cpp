@@ -13,7 +13,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "cli_runner.hpp"
+#include "tocd/test/cli.hpp"
+#include "tocd/test/files.hpp"
+#include "tocd/test/protocol_text.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using tocd::test::run_cli;
@@ -29,37 +32,20 @@ n = 1.4
 )";
 
 // Two short compression steps on the simulated lab.
-constexpr const char* kProtocol = R"(name = "two steps"
-[sample]
-tissue = "skin"
-thickness_mm = 2.0
-[baseline]
-power_W = 1.0e-3
-[motion]
-contact_position_mm = 1.0
-approach_speed_mm_per_s = 1.0
-[steps]
-displacements_mm = [0.25, 0.5]
-hold_s = 0.5
-record_s = 1.0
-[settle]
-max_rate = 0.05
-window_s = 0.5
-max_wait_s = 5
-[rates]
-tester_Hz = 200
-)";
+std::string two_step_protocol() {
+  tocd::test::PinProtocolText p;
+  p.name = "two steps";
+  p.thickness_mm = 2.0;
+  p.displacements_mm = "0.25, 0.5";
+  return tocd::test::protocol_toml(p);
+}
 
 class CliJson : public ::testing::Test {
  protected:
   void SetUp() override {
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
     std::ofstream(dir_ / "optics.toml") << kOptics;
-    std::ofstream(dir_ / "protocol.toml") << kProtocol;
+    tocd::test::write_file(dir_ / "protocol.toml", two_step_protocol());
   }
-  void TearDown() override { fs::remove_all(dir_); }
-
   // Runs tocdlab and returns its stdout parsed as one JSON document; the test fails when the
   // exit status is not 0 or stdout holds anything besides that document.
   nlohmann::json json_of(const std::string& args) {
@@ -74,9 +60,7 @@ class CliJson : public ::testing::Test {
     }
   }
 
-  fs::path dir_ = fs::temp_directory_path() /
-                  fmt::format("tocd_cli_json_{}_{}", ::getpid(),
-                              ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  tocd::test::TempDir dir_{"cli_json"};
 };
 
 }  // namespace
@@ -125,7 +109,7 @@ TEST_F(CliJson, StudySweepIsAFlagAndWritesOutputFile) {
       json_of("study sweep --displacements 0.5 --no-baseline --photons 500 --mesh fast --json -o table.csv");
   ASSERT_TRUE(j.is_object());
   EXPECT_TRUE(fs::exists(dir_ / "table.csv"));
-  const std::string csv = tocd::test::slurp(dir_ / "table.csv");
+  const std::string csv = tocd::test::read_file(dir_ / "table.csv");
   EXPECT_EQ(csv.find('\r'), std::string::npos);
   EXPECT_EQ(csv.find("_stderr"), std::string::npos);
 }
@@ -230,11 +214,11 @@ class SimlabProcess {
         dir.string(), TOCDLAB_EXE);
     if (std::system(cmd.c_str()) != 0) return;
     const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-    while (tocd::test::slurp(dir / "simlab.log").find("serving until") == std::string::npos) {
+    while (tocd::test::read_file(dir / "simlab.log").find("serving until") == std::string::npos) {
       if (std::chrono::steady_clock::now() > until) return;
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
-    pid_ = std::stoi(tocd::test::slurp(dir / "simlab.pid"));
+    pid_ = std::stoi(tocd::test::read_file(dir / "simlab.pid"));
   }
   ~SimlabProcess() {
     if (pid_ > 0) ::kill(pid_, SIGTERM);
@@ -242,7 +226,7 @@ class SimlabProcess {
   bool serving() const { return pid_ > 0; }
   /// The power meter's TCP port from the written lab config.
   int meter_port() const {
-    const std::string lab = tocd::test::slurp(dir_ / "lab.toml");
+    const std::string lab = tocd::test::read_file(dir_ / "lab.toml");
     std::smatch m;
     const std::regex port(R"(\[power_meter\][^\[]*port = (\d+))");
     return std::regex_search(lab, m, port) ? std::stoi(m[1]) : -1;
@@ -257,7 +241,7 @@ class SimlabProcess {
 
 TEST_F(CliJson, DevicesProbeAndPowermeterReadOnTheSimulatedLab) {
   const SimlabProcess simlab(dir_);
-  ASSERT_TRUE(simlab.serving()) << tocd::test::slurp(dir_ / "simlab.log");
+  ASSERT_TRUE(simlab.serving()) << tocd::test::read_file(dir_ / "simlab.log");
   const auto probe = json_of("devices probe --lab lab.toml --json");
   for (const char* instrument : {"tester", "power_meter", "vacuum"}) {
     ASSERT_TRUE(probe.contains(instrument)) << probe.dump(2);

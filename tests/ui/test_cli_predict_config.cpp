@@ -14,58 +14,30 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "cli_runner.hpp"
 #include "tocd/db/reader.hpp"
+#include "tocd/test/cli.hpp"
+#include "tocd/test/cli_test.hpp"
+#include "tocd/test/files.hpp"
+#include "tocd/test/protocol_text.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
 // One compression step, few photons: the run records it and predicts it (step / baseline).
-constexpr const char* kProtocol = R"(name = "stored config round trip"
-[sample]
-tissue = "skin"
-thickness_mm = 2.5
-[baseline]
-power_W = 1.0e-3
-[motion]
-contact_position_mm = 1.0
-approach_speed_mm_per_s = 1.0
-[steps]
-displacements_mm = [0.5]
-hold_s = 0.5
-record_s = 1.0
-[settle]
-max_rate = 0.05
-window_s = 0.5
-max_wait_s = 5
-[rates]
-tester_Hz = 200
-)";
+std::string one_step_protocol() {
+  tocd::test::PinProtocolText p;
+  p.name = "stored config round trip";
+  return tocd::test::protocol_toml(p);
+}
 
-class StoredConfig : public ::testing::Test {
- protected:
-  void SetUp() override {
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  int tocdlab(const std::string& args) {
-    const tocd::test::CliResult r = tocd::test::run_cli(TOCDLAB_EXE, args, dir_);
-    out_ = r.out;
-    err_ = r.err;
-    return r.status;
-  }
-
-  fs::path dir_ = fs::temp_directory_path() / fmt::format("tocd_stored_config_{}", ::getpid());
-  std::string out_, err_;
-};
+using StoredConfig = tocd::test::CliTest;
 
 }  // namespace
 
 TEST_F(StoredConfig, RunPredictionReRunsFromTheDatabaseToTheSameT) {
-  std::ofstream(dir_ / "p.toml") << kProtocol;
+  tocd::test::write_file(dir_ / "p.toml", one_step_protocol());
   const fs::path db = dir_ / "lab.db";
   ASSERT_EQ(
       tocdlab(fmt::format("run {} --simulated --sample analytic --clock-factor 20 --photons 3000 --db {}",

@@ -16,7 +16,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "cli_runner.hpp"
+#include "tocd/test/cli.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using tocd::test::run_cli;
@@ -32,16 +33,8 @@ n = 1.4
 
 class CliStreams : public ::testing::Test {
  protected:
-  void SetUp() override {
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    std::ofstream(dir_ / "optics.toml") << kOptics;
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  fs::path dir_ = fs::temp_directory_path() /
-                  fmt::format("tocd_cli_streams_{}_{}", ::getpid(),
-                              ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  void SetUp() override { std::ofstream(dir_ / "optics.toml") << kOptics; }
+  tocd::test::TempDir dir_{"cli_streams"};
 };
 
 // Runs tocdlab with stderr on a pseudo-terminal and stdout into `stdout_file`; returns what the
@@ -94,7 +87,7 @@ TEST_F(CliStreams, ProgressBarOnTheTerminalNeverInTheDataFile) {
   EXPECT_NE(terminal.find("mc ["), std::string::npos) << terminal;
   EXPECT_NE(terminal.find("ETA"), std::string::npos) << terminal;
   EXPECT_NE(terminal.find("20000/20000 photons"), std::string::npos) << terminal;
-  const std::string data = tocd::test::slurp(dir_ / "data.json");
+  const std::string data = tocd::test::read_file(dir_ / "data.json");
   EXPECT_EQ(data.find("ETA"), std::string::npos) << data;
   EXPECT_EQ(data.find('\r'), std::string::npos);
   EXPECT_NO_THROW((void)nlohmann::json::parse(data)) << data;
@@ -108,7 +101,7 @@ TEST_F(CliStreams, QuietSilencesTheBar) {
                       dir_ / "data.txt", status);
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << terminal;
   EXPECT_EQ(terminal.find("ETA"), std::string::npos) << terminal;
-  EXPECT_NE(tocd::test::slurp(dir_ / "data.txt").find("transmittance"), std::string::npos);
+  EXPECT_NE(tocd::test::read_file(dir_ / "data.txt").find("transmittance"), std::string::npos);
 }
 
 TEST_F(CliStreams, UnknownOptionIsAUsageErrorNamingIt) {

@@ -20,74 +20,28 @@
 #include <unistd.h>
 
 #include "tocd/db/reader.hpp"
+#include "tocd/test/cli_test.hpp"
+#include "tocd/test/files.hpp"
+#include "tocd/test/protocol_text.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 extern char** environ;
 
 namespace {
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using tocd::test::read_file;
 
 std::string protocol(double record_s) {
-  return fmt::format(R"(name = "cli test"
-[sample]
-tissue = "skin"
-thickness_mm = 2.5
-[baseline]
-power_W = 1.0e-3
-[motion]
-contact_position_mm = 1.0
-approach_speed_mm_per_s = 1.0
-[steps]
-displacements_mm = [0.25, 0.5, 0.75]
-hold_s = 0.5
-record_s = {}
-[settle]
-max_rate = 0.05
-window_s = 0.5
-max_wait_s = 5
-[rates]
-tester_Hz = 200
-)",
-                     record_s);
+  tocd::test::PinProtocolText p;
+  p.name = "cli test";
+  p.displacements_mm = "0.25, 0.5, 0.75";
+  p.record_s = record_s;
+  return tocd::test::protocol_toml(p);
 }
 
-class CliRun : public ::testing::Test {
+class CliRun : public tocd::test::CliTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           fmt::format("tocd_cli_{}_{}", ::getpid(),
-                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  /// Runs tocdlab with `args`; stdout and stderr go to out_ and err_. Returns the exit status.
-  int tocdlab(const std::string& args) {
-    const std::string cmd =
-        fmt::format("{} {} > {} 2> {}", TOCDLAB_EXE, args, (dir_ / "out").string(), (dir_ / "err").string());
-    const int rc = std::system(cmd.c_str());
-    out_ = slurp(dir_ / "out");
-    err_ = slurp(dir_ / "err");
-    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-  }
-
-  /// Like tocdlab(), with `prefix` run by the shell first (limits, traps) in the same process.
-  int tocdlab_in_shell(const std::string& prefix, const std::string& args) {
-    const std::string cmd = fmt::format("sh -c \"{}exec {} {}\" > {} 2> {}", prefix, TOCDLAB_EXE, args,
-                                        (dir_ / "out").string(), (dir_ / "err").string());
-    const int rc = std::system(cmd.c_str());
-    out_ = slurp(dir_ / "out");
-    err_ = slurp(dir_ / "err");
-    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-  }
-
   /// Starts tocdlab with `args` in the background, stdout and stderr both into out_path().
   pid_t spawn(const std::vector<std::string>& args) {
     std::vector<std::string> words{TOCDLAB_EXE};
@@ -127,26 +81,37 @@ class CliRun : public ::testing::Test {
     e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     e.exited = WIFEXITED(st);
     e.status = e.exited ? WEXITSTATUS(st) : -1;
-    e.said = slurp(out_path());
+    e.said = read_file(out_path());
     return e;
   }
   /// Waits until the spawned process has printed `text` (true) or `seconds` have passed.
+  /// `tocdlab run` of the protocol file `p` into `db` on the analytic simulated lab, the
+  /// clock 5 x faster, without predictions. Returns the exit status.
+  int record(const fs::path& p, const fs::path& db) {
+    return tocdlab(fmt::format("run {} --simulated --sample analytic --clock-factor 5 --no-predict --db {}",
+                               p.string(), db.string()));
+  }
+
+  /// The same run started in the background, returned 1.5 s into its first recording window.
+  pid_t spawn_recording(const fs::path& p, const fs::path& db) {
+    const pid_t pid = spawn({"run", p.string(), "--simulated", "--sample", "analytic", "--clock-factor", "5",
+                             "--db", db.string(), "--no-predict"});
+    if (pid > 0) {
+      // Approach, settle and hold take ~0.5 s at 5 x.
+      wait_for_output("recording into", 30.0);
+      std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    }
+    return pid;
+  }
+
   bool wait_for_output(const std::string& text, double seconds) {
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-    while (slurp(out_path()).find(text) == std::string::npos) {
+    while (read_file(out_path()).find(text) == std::string::npos) {
       if (std::chrono::steady_clock::now() > deadline) return false;
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
     return true;
   }
-
-  fs::path write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name) << text;
-    return dir_ / name;
-  }
-
-  fs::path dir_;
-  std::string out_, err_;
 };
 
 }  // namespace
@@ -207,23 +172,19 @@ TEST_F(CliRun, NotADatabaseIsRefusedAndLeftAlone) {
   const auto notdb = write("notes.db", "these are my notes, not a database\n");
   EXPECT_EQ(tocdlab(fmt::format("runs --db {}", notdb.string())), 1);
   EXPECT_NE(err_.find("error"), std::string::npos);
-  EXPECT_EQ(slurp(notdb), "these are my notes, not a database\n");
+  EXPECT_EQ(read_file(notdb), "these are my notes, not a database\n");
   const auto p = write("p.toml", protocol(1.0));
   EXPECT_EQ(tocdlab(fmt::format("run {} --simulated --sample analytic --no-predict --db {}", p.string(),
                                 notdb.string())),
             1);
-  EXPECT_EQ(slurp(notdb), "these are my notes, not a database\n");
+  EXPECT_EQ(read_file(notdb), "these are my notes, not a database\n");
 }
 
 TEST_F(CliRun, SigintAbortsGracefullyAndTheRunResumes) {
   const auto p = write("p.toml", protocol(60.0));  // long recording windows
   const auto db = dir_ / "lab.db";
-  const pid_t pid = spawn({"run", p.string(), "--simulated", "--sample", "analytic", "--clock-factor", "5",
-                           "--db", db.string(), "--no-predict"});
+  const pid_t pid = spawn_recording(p, db);
   ASSERT_GT(pid, 0);
-  // Wait for the first step to be recording (5 x faster: approach, settle, hold take ~0.5 s).
-  wait_for_output("recording into", 30.0);
-  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
   const Ended end = interrupt(pid, 1);
   ASSERT_TRUE(end.exited) << end.said;
   EXPECT_EQ(end.status, 0) << end.said;
@@ -252,11 +213,8 @@ TEST_F(CliRun, SigintAbortsGracefullyAndTheRunResumes) {
 TEST_F(CliRun, AKilledRunIsShownInterruptedByEveryReaderWithoutWritingTheFile) {
   const auto p = write("p.toml", protocol(60.0));
   const auto db = dir_ / "lab.db";
-  const pid_t pid = spawn({"run", p.string(), "--simulated", "--sample", "analytic", "--clock-factor", "5",
-                           "--db", db.string(), "--no-predict"});
+  const pid_t pid = spawn_recording(p, db);
   ASSERT_GT(pid, 0);
-  wait_for_output("recording into", 30.0);
-  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
   ASSERT_EQ(::kill(pid, SIGKILL), 0);
   int status = 0;
   ::waitpid(pid, &status, 0);
@@ -282,10 +240,10 @@ TEST_F(CliRun, ExitStatusIsNonZeroAndSaysHowManySamplesWereLostWhenTheFileCannot
   // A 2 MiB file-size limit: the database cannot hold the run's samples. No `trap '' XFSZ`:
   // tocdlab ignores SIGXFSZ itself (it used to die of it: exit 153, the run left `running`,
   // no message), so writes past the limit fail as on a full disk.
-  const int rc = tocdlab_in_shell(
-      "ulimit -f 4096; ",
-      fmt::format("run {} --simulated --sample analytic --clock-factor 20 --no-predict --db {}", p.string(),
-                  db.string()));
+  const int rc =
+      tocdlab(fmt::format("run {} --simulated --sample analytic --clock-factor 20 --no-predict --db {}",
+                          p.string(), db.string()),
+              "ulimit -f 4096; ");
   EXPECT_EQ(rc, 1) << out_ << err_;
   EXPECT_NE(err_.find("sample(s) were lost and are not in"), std::string::npos) << err_;
   EXPECT_NE(err_.find("lost to failed database commits"), std::string::npos) << err_;
@@ -306,7 +264,7 @@ TEST_F(CliRun, SigintAfterTheLastStepCancelsThePredictionsAtOnce) {
   const pid_t pid = spawn({"run", p.string(), "--simulated", "--sample", "analytic", "--clock-factor", "5",
                            "--photons", "5000000", "--db", db.string()});
   ASSERT_GT(pid, 0);
-  ASSERT_TRUE(wait_for_output("step 3/3 recorded", 120.0)) << slurp(out_path());
+  ASSERT_TRUE(wait_for_output("step 3/3 recorded", 120.0)) << read_file(out_path());
   ASSERT_TRUE(wait_for_output("run 1 (3 steps)", 1.0));
   const Ended end = interrupt(pid, 1);
   const std::string& said = end.said;
@@ -337,7 +295,7 @@ TEST_F(CliRun, TwoSigintsDuringAStepWithAPredictionRunningEndAtOnce) {
   const pid_t pid = spawn({"run", p.string(), "--simulated", "--sample", "analytic", "--clock-factor", "5",
                            "--photons", "5000000", "--db", db.string()});
   ASSERT_GT(pid, 0);
-  ASSERT_TRUE(wait_for_output("step 1/3 recorded", 120.0)) << slurp(out_path());
+  ASSERT_TRUE(wait_for_output("step 1/3 recorded", 120.0)) << read_file(out_path());
   std::this_thread::sleep_for(std::chrono::milliseconds(500));  // step 2 under way, step 1 predicting
   const Ended end = interrupt(pid, 2);
   const std::string& said = end.said;
@@ -373,14 +331,11 @@ TEST_F(CliRun, TooFewPhotonsForThePredictionsAreRefusedBeforeTheRun) {
 TEST_F(CliRun, OutputOnAFullDiskIsAnErrorAndLeavesNoFile) {
   const auto p = write("p.toml", protocol(0.5));
   const auto db = dir_ / "lab.db";
-  ASSERT_EQ(tocdlab(fmt::format("run {} --simulated --sample analytic --clock-factor 5 --no-predict --db {}",
-                                p.string(), db.string())),
-            0)
-      << err_;
+  ASSERT_EQ(record(p, db), 0) << err_;
   for (const std::string& args :
        {fmt::format("runs --db {}", db.string()), fmt::format("export --db {} --run 1", db.string()),
         fmt::format("export --db {} --run 1 --format json", db.string())}) {
-    const int rc = tocdlab_in_shell("", args + " > /dev/full");
+    const int rc = tocdlab(args + " > /dev/full");
     EXPECT_EQ(rc, 1) << args << ": " << err_;
     EXPECT_NE(err_.find("writing standard output failed"), std::string::npos) << args << ": " << err_;
     EXPECT_NE(err_.find("disk full?"), std::string::npos) << err_;
@@ -389,9 +344,9 @@ TEST_F(CliRun, OutputOnAFullDiskIsAnErrorAndLeavesNoFile) {
   EXPECT_NE(err_.find("cannot write /dev/full (disk full?)"), std::string::npos) << err_;
   // A file past a size limit: the export fails and leaves neither the file nor its .part.
   const auto csv = dir_ / "samples.csv";
-  const int rc = tocdlab_in_shell(
-      "ulimit -f 100; ",
-      fmt::format("export --db {} --run 1 --table samples -o {}", db.string(), csv.string()));
+  const int rc =
+      tocdlab(fmt::format("export --db {} --run 1 --table samples -o {}", db.string(), csv.string()),
+              "ulimit -f 100; ");
   EXPECT_EQ(rc, 1) << err_;
   EXPECT_NE(err_.find("disk full?"), std::string::npos) << err_;
   EXPECT_FALSE(fs::exists(csv));
@@ -403,30 +358,15 @@ TEST_F(CliRun, OutputOnAFullDiskIsAnErrorAndLeavesNoFile) {
 TEST_F(CliRun, ADamagedDatabaseIsRefusedBeforeAnythingMovesAndLeftAlone) {
   const auto p = write("p.toml", protocol(0.5));
   const auto db = dir_ / "lab.db";
-  ASSERT_EQ(tocdlab(fmt::format("run {} --simulated --sample analytic --clock-factor 5 --no-predict --db {}",
-                                p.string(), db.string())),
-            0)
-      << err_;
+  ASSERT_EQ(record(p, db), 0) << err_;
   ASSERT_GT(fs::file_size(db), 16u * 4096u);
-  {
-    // Random bytes over a page in the middle of the file (not the header, which is checked
-    // apart): the samples' b-tree is damaged.
-    std::fstream f(db, std::ios::in | std::ios::out | std::ios::binary);
-    f.seekp(static_cast<std::streamoff>(fs::file_size(db) / 2 / 4096 * 4096 + 100));
-    std::uint32_t x = 12345;
-    for (int i = 0; i < 2000; ++i) {
-      x = x * 1664525u + 1013904223u;
-      f.put(static_cast<char>(x >> 24));
-    }
-  }
-  const std::string before = slurp(db);
-  EXPECT_EQ(tocdlab(fmt::format("run {} --simulated --sample analytic --clock-factor 5 --no-predict --db {}",
-                                p.string(), db.string())),
-            1);
+  tocd::test::scribble_over_middle_page(db, 12345);
+  const std::string before = read_file(db);
+  EXPECT_EQ(record(p, db), 1);
   EXPECT_NE(err_.find("is damaged (SQLite quick_check"), std::string::npos) << err_;
   EXPECT_NE(err_.find("nothing was written to it"), std::string::npos) << err_;
   EXPECT_EQ(err_.find("recording into"), std::string::npos) << err_;  // no run was started
-  EXPECT_EQ(slurp(db), before);
+  EXPECT_EQ(read_file(db), before);
 }
 
 // A protocol's name is stored as written and may hold anything; the table `run` prints and
@@ -436,10 +376,7 @@ TEST_F(CliRun, ControlCharactersInAStoredNameNeverReachTheTerminal) {
   text.replace(text.find("name = \"cli test\""), 17, R"(name = "red \u001B[31m then \u202Eevil")");
   const auto p = write("p.toml", text);
   const auto db = dir_ / "lab.db";
-  ASSERT_EQ(tocdlab(fmt::format("run {} --simulated --sample analytic --clock-factor 5 --no-predict --db {}",
-                                p.string(), db.string())),
-            0)
-      << err_;
+  ASSERT_EQ(record(p, db), 0) << err_;
   const auto clean = [](const std::string& s) {
     return s.find('\x1b') == std::string::npos && s.find("\xE2\x80\xAE") == std::string::npos;
   };

@@ -19,8 +19,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "cli_runner.hpp"
 #include "tocd/db/reader.hpp"
+#include "tocd/test/cli.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 
@@ -56,7 +57,7 @@ class BusyProcess {
 
 /// The demo protocol (protocols/demo.toml), all its steps or the first two past contact.
 std::string demo_protocol(bool full) {
-  std::string text = tocd::test::slurp(fs::path(TOCD_SOURCE_DIR) / "protocols" / "demo.toml");
+  std::string text = tocd::test::read_file(fs::path(TOCD_SOURCE_DIR) / "protocols" / "demo.toml");
   if (!full) {
     const std::string from = "displacements_mm = { from = 0.0, to = 1.5, count = 7 }";
     const auto at = text.find(from);
@@ -94,12 +95,12 @@ Soak run_soak(const fs::path& dir, bool full, int busy, int expected_steps) {
     }
     const std::string last = fmt::format("step {}/{} recorded", expected_steps, expected_steps);
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(10);
-    while (tocd::test::slurp(out).find(last) == std::string::npos &&
+    while (tocd::test::read_file(out).find(last) == std::string::npos &&
            std::chrono::steady_clock::now() < deadline) {
       int st = 0;
       if (::waitpid(pid, &st, WNOHANG) == pid) {  // ended early
         s.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-        s.said = tocd::test::slurp(out);
+        s.said = tocd::test::read_file(out);
         return s;
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
@@ -109,7 +110,7 @@ Soak run_soak(const fs::path& dir, bool full, int busy, int expected_steps) {
     ::waitpid(pid, &st, 0);
     s.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
   }
-  s.said = tocd::test::slurp(out);
+  s.said = tocd::test::read_file(out);
   const tocd::db::Reader r(db);
   const auto steps = r.steps(1);
   s.steps = static_cast<int>(steps.size());
@@ -132,13 +133,7 @@ Soak run_soak(const fs::path& dir, bool full, int busy, int expected_steps) {
 
 class SoakTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / fmt::format("tocd_soak_{}", ::getpid());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
+  tocd::test::TempDir dir_{"soak"};
 };
 
 }  // namespace

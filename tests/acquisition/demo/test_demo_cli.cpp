@@ -16,21 +16,18 @@
 #include "tocd/acquisition/compare_table.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
+#include "tocd/test/cli.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using tocd::test::read_file;
 
 std::vector<std::vector<std::string>> read_csv(const fs::path& p) {
   std::vector<std::vector<std::string>> rows;
-  std::istringstream in(slurp(p));
+  std::istringstream in(read_file(p));
   std::string line;
   while (std::getline(in, line)) {
     std::vector<std::string> cells;
@@ -43,20 +40,20 @@ std::vector<std::vector<std::string>> read_csv(const fs::path& p) {
   return rows;
 }
 
-fs::path g_dir;
-std::string g_out;
+const tocd::test::TempDir g_dir("demo");
+std::string g_stdout;  // the last command's stdout
+std::string g_out;     // its stdout and stderr
 
 int tocdlab(const std::string& args) {
-  const std::string cmd =
-      fmt::format("{} {} > {} 2> {}", TOCDLAB_EXE, args, (g_dir / "out").string(), (g_dir / "err").string());
-  const int rc = std::system(cmd.c_str());
-  g_out = slurp(g_dir / "out") + slurp(g_dir / "err");
-  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  const tocd::test::CliResult r = tocd::test::run_cli(TOCDLAB_EXE, args, g_dir);
+  g_stdout = r.out;
+  g_out = r.out + r.err;
+  return r.status;
 }
 
 // Below the step table, on stdout: the sample identified from the run (tocdlab identify).
 void read_identified_T(std::vector<double>& identified_T) {
-  const std::string out = slurp(g_dir / "out");
+  const std::string out = g_stdout;
   EXPECT_NE(out.find("Identified sample of run 1"), std::string::npos) << g_out;
   EXPECT_NE(out.find("stiffness_scale"), std::string::npos) << g_out;
   EXPECT_LT(out.find("predicted T"), out.find("Identified sample of run")) << "the table comes first";
@@ -99,7 +96,7 @@ void expect_the_csv_is_the_compare_table(const std::string& db) {
   const auto runs = reader.runs();
   ASSERT_EQ(runs.size(), 1u);
   const auto table = tocd::acquisition::compare_table(reader, runs.front().run.id);
-  EXPECT_EQ(tocd::acquisition::format_compare_csv(table), slurp(g_dir / "demo.csv"));
+  EXPECT_EQ(tocd::acquisition::format_compare_csv(table), read_file(g_dir / "demo.csv"));
   EXPECT_EQ(table.status, "completed");
 }
 
@@ -135,7 +132,7 @@ void expect_real_utc_times(const std::string& db) {
   const std::string cmd = fmt::format("sqlite3 -readonly -separator ' ' '{}' '{}' > '{}'", db, query,
                                       (g_dir / "series").string());
   ASSERT_EQ(std::system(cmd.c_str()), 0);
-  std::istringstream in(slurp(g_dir / "series"));
+  std::istringstream in(read_file(g_dir / "series"));
   long samples = 0;
   int after_start = 0, before_end = 0, clock_ahead = 0;
   in >> samples >> after_start >> before_end >> clock_ahead;
@@ -154,7 +151,7 @@ void expect_compare_with_the_identified_sample(const std::string& db,
   ASSERT_EQ(tocdlab(fmt::format("compare --db {} --run 1 --material identified --photons 4000 --json", db)),
             0)
       << g_out;
-  const auto c = nlohmann::json::parse(slurp(g_dir / "out"));
+  const auto c = nlohmann::json::parse(g_stdout);
   ASSERT_EQ(c["steps"].size(), 7u);
   EXPECT_TRUE(c["identification"]["optics"].is_object());
   for (std::size_t k = 0; k < 7; ++k) {
@@ -195,7 +192,7 @@ void expect_the_run_can_be_fitted(const std::string& db) {
   // sample is the published law x 1.25 plus a loading overstress, so the default law's forces
   // are at least 20 % low at every step (forces scale exactly with a factor on the energy).
   ASSERT_EQ(tocdlab(fmt::format("fit --method fe --model scaled --db {} --run 1 --json", db)), 0) << g_out;
-  const auto fit = nlohmann::json::parse(slurp(g_dir / "out"));
+  const auto fit = nlohmann::json::parse(g_stdout);
   const double factor = fit["parameters"]["s"]["value"].get<double>();
   const auto& held = fit["datasets"][0];
   ASSERT_EQ(held["measured"].size(), 6u) << "one held load per step in contact";
@@ -208,9 +205,6 @@ void expect_the_run_can_be_fitted(const std::string& db) {
 
 // One test: the demo is the expensive part and runs once.
 TEST(Demo, EveryStepMeasuredAndPredictedCsvMatchesDatabaseAndRunCanBeFitted) {
-  g_dir = fs::temp_directory_path() / fmt::format("tocd_demo_{}", ::getpid());
-  fs::remove_all(g_dir);
-  fs::create_directories(g_dir);
   const std::string db = (g_dir / "demo.db").string();
   ASSERT_EQ(
       tocdlab(fmt::format(
@@ -225,7 +219,6 @@ TEST(Demo, EveryStepMeasuredAndPredictedCsvMatchesDatabaseAndRunCanBeFitted) {
   ASSERT_NO_FATAL_FAILURE(expect_real_utc_times(db));
   ASSERT_NO_FATAL_FAILURE(expect_compare_with_the_identified_sample(db, identified_T));
   ASSERT_NO_FATAL_FAILURE(expect_the_run_can_be_fitted(db));
-  fs::remove_all(g_dir);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "tocd/db/database.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace tocd::acquisition::testing {
 
@@ -40,20 +41,11 @@ inline TesterRun create_tester_run(db::Database& db, double thickness_mm, const 
   return out;
 }
 
-/// A database file of its own per test suite and process, removed with its side files after
-/// each test.
+/// A database file of its own per test, removed with its folder (and side files) after it.
 class TempDatabaseTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const std::string suite = ::testing::UnitTest::GetInstance()->current_test_suite()->name();
-    path_ =
-        std::filesystem::temp_directory_path() / ("tocd_" + suite + "_" + std::to_string(::getpid()) + ".db");
-    std::filesystem::remove(path_);
-  }
-  void TearDown() override {
-    for (const char* ext : {"", "-wal", "-shm", "-runlock"}) std::filesystem::remove(path_.string() + ext);
-  }
-  std::filesystem::path path_;
+  tocd::test::TempDir dir_{"acq_db"};
+  std::filesystem::path path_ = dir_ / "runs.db";
 };
 
 }  // namespace tocd::acquisition::testing

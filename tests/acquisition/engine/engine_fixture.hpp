@@ -12,23 +12,14 @@
 
 #include "tocd/acquisition/engine.hpp"
 #include "tocd/db/reader.hpp"
+#include "tocd/test/eventually.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace tocd::acquisition::testing {
 
 class EngineFixture : public ::testing::Test {
  protected:
   static constexpr double kFactor = 20.0;  // simulated seconds per real second
-
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           fmt::format("tocd_engine_{}_{}_{}", ::getpid(),
-                       ::testing::UnitTest::GetInstance()->current_test_info()->test_suite_name(),
-                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-    path_ = dir_ / "runs.db";
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
 
   static EngineOptions fast() {
     EngineOptions o;
@@ -39,12 +30,7 @@ class EngineFixture : public ::testing::Test {
   /// Polls `pred` every 2 ms for up to `seconds` of real time.
   template <class Pred>
   static bool eventually(Pred pred, double seconds = 20.0) {
-    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-    while (std::chrono::steady_clock::now() < end) {
-      if (pred()) return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
-    return pred();
+    return tocd::test::eventually(pred, seconds);
   }
 
   static bool has_event(const tocd::db::Reader& r, std::int64_t run, const std::string& kind,
@@ -54,7 +40,8 @@ class EngineFixture : public ::testing::Test {
     return false;
   }
 
-  std::filesystem::path dir_, path_;
+  tocd::test::TempDir dir_{"engine"};
+  std::filesystem::path path_ = dir_ / "runs.db";
 };
 
 }  // namespace tocd::acquisition::testing

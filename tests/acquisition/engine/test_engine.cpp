@@ -2,16 +2,19 @@
 #include <chrono>
 #include <filesystem>
 #include <thread>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
 #include "engine_fixture.hpp"
 #include "fake_rig.hpp"
+#include "forwarding_tester.hpp"
 #include "protocol_text.hpp"
 #include "tocd/acquisition/compare_table.hpp"
 #include "tocd/acquisition/engine.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
+#include "tocd/test/eventually.hpp"
 
 using namespace tocd::acquisition;
 using namespace tocd::acquisition::testing;
@@ -19,7 +22,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-class EngineTest : public EngineFixture {};
+class EngineTest : public EngineFixture {
+ protected:
+  struct BusySimulatorRun;
+};
 
 /// Records observer callbacks (called from engine threads).
 struct Recorder : EngineObserver {
@@ -42,6 +48,31 @@ struct Recorder : EngineObserver {
     std::lock_guard lock(mu);
     return static_cast<int>(steps.size());
   }
+};
+
+/// A three-step run whose simulator is busy (its gate closed) until the test opens it.
+struct EngineTest::BusySimulatorRun {
+  explicit BusySimulatorRun(const fs::path& db_path)
+      : db(db_path), engine(db, make_fake_instruments(world), EngineFixture::fast(), predictor, &obs) {
+    predictor->close_gate();
+    run = engine.start(parse_protocol(pin_protocol("0.25, 0.5, 0.75"), "engine.toml"));
+  }
+  /// Whether the recording ends (every step recorded) within the fixture's wait.
+  bool recording_completed() {
+    return tocd::test::eventually([&] {
+      std::lock_guard lock(obs.mu);
+      return !obs.states.empty() && obs.states.back() == EngineState::completed;
+    });
+  }
+  /// What a test drives and checks: the simulator's gate, the engine and the run's id.
+  auto parts() { return std::tie(predictor, engine, run); }
+
+  std::shared_ptr<FakeWorld> world = std::make_shared<FakeWorld>(EngineFixture::kFactor);
+  std::shared_ptr<FakePredictor> predictor = std::make_shared<FakePredictor>();
+  Recorder obs;
+  tocd::db::Database db;
+  Engine engine;
+  std::int64_t run = 0;
 };
 
 }  // namespace
@@ -320,17 +351,9 @@ TEST_F(EngineTest, PowerOverRangePauses) {
 }
 
 TEST_F(EngineTest, PredictionsNeverHoldUpAcquisition) {
-  auto world = std::make_shared<FakeWorld>(kFactor);
-  auto predictor = std::make_shared<FakePredictor>();
-  predictor->close_gate();  // the simulator is "busy" for the whole acquisition
-  Recorder obs;
-  tocd::db::Database db(path_);
-  Engine engine(db, make_fake_instruments(world), fast(), predictor, &obs);
-  const auto run = engine.start(parse_protocol(pin_protocol("0.25, 0.5, 0.75"), "engine.toml"));
-  ASSERT_TRUE(eventually([&] {
-    std::lock_guard lock(obs.mu);
-    return !obs.states.empty() && obs.states.back() == EngineState::completed;
-  }));
+  BusySimulatorRun busy(path_);  // the simulator is "busy" for the whole acquisition
+  auto [predictor, engine, run] = busy.parts();
+  ASSERT_TRUE(busy.recording_completed());
   EXPECT_FALSE(engine.wait_for(std::chrono::milliseconds(50)));  // predictions still pending
   {
     const tocd::db::Reader r(path_);
@@ -408,17 +431,9 @@ TEST_F(EngineTest, AnInstrumentThatKeepsFailingInterruptsTheRun) {
 // and the engine ends at once (it waited for every prediction), the run stays completed, and
 // each step left unpredicted has an event saying why.
 TEST_F(EngineTest, AnAbortAfterTheLastStepCancelsThePredictionsAndEndsAtOnce) {
-  auto world = std::make_shared<FakeWorld>(kFactor);
-  auto predictor = std::make_shared<FakePredictor>();
-  predictor->close_gate();  // the simulator is busy until cancelled
-  Recorder obs;
-  tocd::db::Database db(path_);
-  Engine engine(db, make_fake_instruments(world), fast(), predictor, &obs);
-  const auto run = engine.start(parse_protocol(pin_protocol("0.25, 0.5, 0.75"), "engine.toml"));
-  ASSERT_TRUE(eventually([&] {
-    std::lock_guard lock(obs.mu);
-    return !obs.states.empty() && obs.states.back() == EngineState::completed;
-  }));
+  BusySimulatorRun busy(path_);  // the simulator is busy until cancelled
+  auto [predictor, engine, run] = busy.parts();
+  ASSERT_TRUE(busy.recording_completed());
   EXPECT_FALSE(engine.wait_for(std::chrono::milliseconds(50)));
   engine.abort("test abort");
   EXPECT_TRUE(engine.wait_for(std::chrono::seconds(2)));
@@ -493,26 +508,16 @@ namespace {
 
 /// The fake tester under a capability table that names its channels otherwise, as a driver
 /// of another instrument kind would.
-class MisdescribedTester : public tocd::devices::MechanicalTester {
+class MisdescribedTester : public ForwardingTester {
  public:
-  explicit MisdescribedTester(std::unique_ptr<tocd::devices::MechanicalTester> real)
-      : real_(std::move(real)) {}
+  using ForwardingTester::ForwardingTester;
   const tocd::devices::InstrumentCapabilities& describe() const override { return kCaps; }
-  tocd::devices::Identity identity() override { return real_->identity(); }
-  tocd::devices::TesterReading read() override { return real_->read(); }
-  void move_to(double p, double v) override { real_->move_to(p, v); }
-  void stop() override { real_->stop(); }
-  void home() override { real_->home(); }
-  void tare_load() override { real_->tare_load(); }
-  void set_limits(double t, double l) override { real_->set_limits(t, l); }
-  void clear_fault() override { real_->clear_fault(); }
 
  private:
   static constexpr std::array<tocd::devices::ChannelCapability, 1> kChannels{
       {{"position", "mm", 0, 50, 100}}};
   static constexpr tocd::devices::InstrumentCapabilities kCaps{"mechanical_tester", "mechanical tester",
                                                                kChannels};
-  std::unique_ptr<tocd::devices::MechanicalTester> real_;
 };
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "protocol_text.hpp"
 #include "tocd/acquisition/lab_session.hpp"
 #include "tocd/db/reader.hpp"
+#include "tocd/test/files.hpp"
 
 using namespace tocd::acquisition;
 using namespace tocd::acquisition::testing;
@@ -27,11 +28,9 @@ class LabSessionTest : public EngineFixture {};
 }  // namespace
 
 TEST(DemoProtocol, IsTheFileInProtocols) {
-  std::ifstream in(fs::path(TOCD_SOURCE_DIR) / "protocols" / "demo.toml", std::ios::binary);
-  ASSERT_TRUE(in);
-  std::stringstream text;
-  text << in.rdbuf();
-  EXPECT_EQ(std::string(demo_protocol_text()), text.str());
+  const std::string text = tocd::test::read_file(fs::path(TOCD_SOURCE_DIR) / "protocols" / "demo.toml");
+  ASSERT_FALSE(text.empty());
+  EXPECT_EQ(std::string(demo_protocol_text()), text);
   const Protocol p = demo_protocol();
   ASSERT_EQ(p.steps.size(), 7u);
   EXPECT_DOUBLE_EQ(p.steps.front().displacement_mm, 0.0);

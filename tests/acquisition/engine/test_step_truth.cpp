@@ -15,6 +15,7 @@
 #include "tocd/acquisition/engine.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
+#include "tocd/test/sqlite_pages.hpp"
 
 using namespace tocd::acquisition;
 using namespace tocd::acquisition::testing;
@@ -48,18 +49,7 @@ class StepTruth : public EngineFixture {
   }
 };
 
-/// Pages the database holds now (its logical size, WAL included).
-std::uint64_t page_count(const fs::path& path) {
-  sqlite3* c = nullptr;
-  sqlite3_open_v2(path.c_str(), &c, SQLITE_OPEN_READONLY, nullptr);
-  sqlite3_stmt* st = nullptr;
-  sqlite3_prepare_v2(c, "PRAGMA page_count", -1, &st, nullptr);
-  const std::uint64_t n =
-      sqlite3_step(st) == SQLITE_ROW ? static_cast<std::uint64_t>(sqlite3_column_int64(st, 0)) : 0;
-  sqlite3_finalize(st);
-  sqlite3_close(c);
-  return n;
-}
+using tocd::test::page_count;
 
 std::string with(std::string text, const std::string& after, const std::string& line) {
   const auto at = text.find(after);
@@ -101,7 +91,7 @@ TEST_F(StepTruth, RefusedMoveInterruptsWhenTheProtocolSaysSo) {
   world->refuse_moves = 1;
   tocd::db::Database db(path_);
   const auto text =
-      with(pin_protocol("0.25, 0.5"), "retract_speed_mm_per_s = 2.0", "on_move_failure = \"interrupt\"");
+      with(pin_protocol("0.25, 0.5"), "retract_speed_mm_per_s = 2", "on_move_failure = \"interrupt\"");
   Engine engine(db, make_fake_instruments(world), fast());
   const auto run = engine.start(parse_protocol(text, "truth.toml"));
   EXPECT_EQ(engine.wait(), EngineState::interrupted);

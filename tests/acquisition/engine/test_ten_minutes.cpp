@@ -9,6 +9,7 @@
 #include "tocd/acquisition/engine.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 using namespace tocd::acquisition;
 using namespace tocd::acquisition::testing;
@@ -16,9 +17,7 @@ namespace fs = std::filesystem;
 
 TEST(AcquisitionTenMinutes, ZeroLostSamplesAtOneKilohertz) {
   const double factor = 40.0;  // 10 simulated minutes in 15 s
-  const fs::path dir = fs::temp_directory_path() / fmt::format("tocd_acq_10min_{}", ::getpid());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const tocd::test::TempDir dir("acq_10min");
   auto world = std::make_shared<FakeWorld>(factor);
   tocd::db::Database db(dir / "runs.db");
   EngineOptions opt;
@@ -57,5 +56,4 @@ TEST(AcquisitionTenMinutes, ZeroLostSamplesAtOneKilohertz) {
       "mean commit {:.1f} ms, max {:.1f} ms, queue high water {}\n",
       stored, per_channel["load"], stats.writer.batches, stats.writer.mean_batch_ms,
       stats.writer.max_batch_ms, stats.writer.queue_high_water);
-  fs::remove_all(dir);
 }

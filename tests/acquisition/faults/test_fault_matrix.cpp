@@ -23,6 +23,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "forwarding_tester.hpp"
 #include "tocd/acquisition/engine.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
@@ -30,6 +31,11 @@
 #include "tocd/mocks/power_meter_twin.hpp"
 #include "tocd/mocks/simulated_lab.hpp"
 #include "tocd/mocks/tissue.hpp"
+#include "tocd/test/eventually.hpp"
+#include "tocd/test/files.hpp"
+#include "tocd/test/protocol_text.hpp"
+#include "tocd/test/sqlite_pages.hpp"
+#include "tocd/test/temp_dir.hpp"
 #include "trickle_proxy.hpp"
 
 using namespace tocd::acquisition;
@@ -42,28 +48,19 @@ constexpr double kFactor = 10.0;
 
 /// The real tester driver, except that the next `refuse` moves ask for 100 mm/s, which the
 /// simulated tester refuses on the wire (its maximum is 20 mm/s) with Modbus exception 3.
-class RefusingTester : public dev::MechanicalTester {
+class RefusingTester : public tocd::acquisition::testing::ForwardingTester {
  public:
   RefusingTester(std::unique_ptr<dev::MechanicalTester> real, std::shared_ptr<std::atomic<int>> refuse)
-      : real_(std::move(real)), refuse_(std::move(refuse)) {}
-  const dev::InstrumentCapabilities& describe() const override { return real_->describe(); }
-  dev::Identity identity() override { return real_->identity(); }
-  dev::TesterReading read() override { return real_->read(); }
+      : ForwardingTester(std::move(real)), refuse_(std::move(refuse)) {}
   void move_to(double position_mm, double v) override {
     if (position_mm > 0.0 && refuse_->load() > 0) {
       --*refuse_;
       v = 100.0;
     }
-    real_->move_to(position_mm, v);
+    ForwardingTester::move_to(position_mm, v);
   }
-  void stop() override { real_->stop(); }
-  void home() override { real_->home(); }
-  void tare_load() override { real_->tare_load(); }
-  void set_limits(double t, double l) override { real_->set_limits(t, l); }
-  void clear_fault() override { real_->clear_fault(); }
 
  private:
-  std::unique_ptr<dev::MechanicalTester> real_;
   std::shared_ptr<std::atomic<int>> refuse_;
 };
 
@@ -96,50 +93,33 @@ class BadReadingMeter : public dev::PowerMeter {
   std::shared_ptr<std::atomic<double>> value_;
 };
 
+// What the matrix's two protocols share: the simulated sample, 1 s holds, a tester polled at
+// 100 Hz (beside the pump too) and a meter at 10 Hz.
+template <class ProtocolText>
+ProtocolText on_the_matrix_rig(ProtocolText p, const std::string& name) {
+  p.name = name;
+  p.tissue = "simulated skin";
+  p.thickness_mm = 2.5;
+  p.hold_s = 1.0;
+  p.tester_Hz = 100;
+  p.power_Hz = 10;
+  return p;
+}
+
 std::string pin_protocol() {
-  return R"(name = "fault matrix"
-[sample]
-tissue = "simulated skin"
-thickness_mm = 2.5
-[baseline]
-power_W = 1.0e-3
-[motion]
-contact_position_mm = 1.0
-approach_speed_mm_per_s = 0.5
-[steps]
-displacements_mm = [0.25, 0.5]
-hold_s = 1.0
-record_s = 1.0
-[settle]
-max_rate = 0.05
-window_s = 0.5
-max_wait_s = 2
-[rates]
-tester_Hz = 100
-power_Hz = 10
-)";
+  auto p = on_the_matrix_rig(tocd::test::PinProtocolText{}, "fault matrix");
+  p.approach_speed_mm_per_s = 0.5;
+  p.displacements_mm = "0.25, 0.5";
+  p.settle->max_wait_s = 2;
+  return tocd::test::protocol_toml(p);
 }
 
 std::string vacuum_protocol() {
-  return R"(name = "fault matrix, vacuum"
-[sample]
-tissue = "simulated skin"
-thickness_mm = 2.5
-[baseline]
-power_W = 1.0e-3
-[steps]
-vacuum_kPa = [80, 60]
-hold_s = 1.0
-record_s = 1.0
-[settle]
-max_rate = 0.5
-window_s = 0.5
-max_wait_s = 5
-[rates]
-tester_Hz = 100
-power_Hz = 10
-pressure_Hz = 20
-)";
+  auto p = on_the_matrix_rig(tocd::test::VacuumProtocolText{}, "fault matrix, vacuum");
+  p.vacuum_kPa = "80, 60";
+  p.settle.max_wait_s = 5;
+  p.vacuum_loss_kPa.reset();
+  return tocd::test::protocol_toml(p);
 }
 
 enum class Phase { approach, hold, record };
@@ -224,26 +204,11 @@ void PrintTo(const Cell& c, std::ostream* os) {
   *os << c.fault << " during " << name(c.phase);
 }
 
-template <class Pred>
-bool eventually(Pred pred, double seconds) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-  while (std::chrono::steady_clock::now() < end) {
-    if (pred()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
-  return pred();
-}
+using tocd::test::eventually;
 
 class FaultMatrix : public ::testing::TestWithParam<Cell> {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / fmt::format("tocd_faults_{}_{}", ::getpid(), counter_++);
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
-  static inline int counter_ = 0;
+  tocd::test::TempDir dir_{"faults"};
 };
 
 /// Sets RLIMIT_FSIZE to a little above the largest of the database's files (WAL included)
@@ -275,18 +240,7 @@ class FileSizeLimit {
   void (*old_)(int) = nullptr;
 };
 
-/// Pages the database holds now (its logical size, WAL included).
-std::uint64_t page_count(const fs::path& path) {
-  sqlite3* c = nullptr;
-  sqlite3_open_v2(path.c_str(), &c, SQLITE_OPEN_READONLY, nullptr);
-  sqlite3_stmt* st = nullptr;
-  sqlite3_prepare_v2(c, "PRAGMA page_count", -1, &st, nullptr);
-  const std::uint64_t n =
-      sqlite3_step(st) == SQLITE_ROW ? static_cast<std::uint64_t>(sqlite3_column_int64(st, 0)) : 0;
-  sqlite3_finalize(st);
-  sqlite3_close(c);
-  return n;
-}
+using tocd::test::page_count;
 
 std::string all_events(const tocd::db::Reader& r, std::int64_t run) {
   std::string out;
@@ -507,9 +461,7 @@ INSTANTIATE_TEST_SUITE_P(Cells, FaultMatrix, ::testing::ValuesIn(cells()), [](co
 // A damaged file (random bytes over a page) is refused when the engine's database is opened,
 // before any instrument is opened or moved, and nothing is written into it.
 TEST(FaultMatrixStorage, ADamagedDatabaseIsRefusedBeforeAnyInstrumentIsOpened) {
-  const fs::path dir = fs::temp_directory_path() / fmt::format("tocd_faults_damaged_{}", ::getpid());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const tocd::test::TempDir dir("faults_damaged");
   const fs::path path = dir / "runs.db";
   {
     tocd::db::Database db(path);
@@ -517,15 +469,7 @@ TEST(FaultMatrixStorage, ADamagedDatabaseIsRefusedBeforeAnyInstrumentIsOpened) {
     for (int i = 0; i < 3000; ++i)
       db.add_event({0, run, i, "note", fmt::format("event {} of a long run", i), -1, ""});
   }
-  {
-    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
-    f.seekp(static_cast<std::streamoff>(fs::file_size(path) / 2 / 4096 * 4096 + 100));
-    std::uint32_t x = 7;
-    for (int i = 0; i < 2000; ++i) {
-      x = x * 1664525u + 1013904223u;
-      f.put(static_cast<char>(x >> 24));
-    }
-  }
+  tocd::test::scribble_over_middle_page(path, 7);
   const auto size = fs::file_size(path);
   try {
     tocd::db::Database db(path);
@@ -535,5 +479,4 @@ TEST(FaultMatrixStorage, ADamagedDatabaseIsRefusedBeforeAnyInstrumentIsOpened) {
   }
   EXPECT_EQ(fs::file_size(path), size);
   EXPECT_FALSE(fs::exists(path.string() + "-wal") && fs::file_size(path.string() + "-wal") > 0);
-  fs::remove_all(dir);
 }

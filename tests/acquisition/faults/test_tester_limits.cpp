@@ -15,6 +15,8 @@
 #include "tocd/mocks/simulated_lab.hpp"
 #include "tocd/mocks/tester_twin.hpp"
 #include "tocd/mocks/tissue.hpp"
+#include "tocd/test/protocol_text.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 using namespace tocd::acquisition;
 namespace fs = std::filesystem;
@@ -32,25 +34,18 @@ struct Corner {
 };
 
 std::string protocol(const Corner& c, double max_load_N) {
-  return fmt::format(R"(name = "tester limit"
-[sample]
-tissue = "simulated skin"
-thickness_mm = {}
-[baseline]
-power_W = 1.0e-3
-[motion]
-contact_position_mm = 1.0
-approach_speed_mm_per_s = {}
-[steps]
-displacements_mm = [1.8]
-record_s = 1.0
-[rates]
-tester_Hz = {}
-power_Hz = 10
-[interlocks]
-max_load_N = {}
-)",
-                     kThickness_mm, c.speed_mm_per_s, c.tester_Hz, max_load_N);
+  tocd::test::PinProtocolText p;
+  p.name = "tester limit";
+  p.tissue = "simulated skin";
+  p.thickness_mm = kThickness_mm;
+  p.approach_speed_mm_per_s = c.speed_mm_per_s;
+  p.displacements_mm = "1.8";
+  p.hold_s.reset();
+  p.settle.reset();
+  p.tester_Hz = c.tester_Hz;
+  p.power_Hz = 10;
+  p.max_load_N = max_load_N;
+  return tocd::test::protocol_toml(p);
 }
 
 class TesterLimits : public ::testing::TestWithParam<Corner> {};
@@ -61,10 +56,7 @@ TEST_P(TesterLimits, LoadOvershootStaysWithinOneControlStepAtTheSlowestPollAndFa
   const Corner corner = GetParam();
   // Both corners are on the accepted boundary: speed / rate = 0.05 mm between readings.
   ASSERT_NO_THROW(parse_protocol(protocol(corner, 1.0), "limit.toml"));
-  const fs::path dir =
-      fs::temp_directory_path() / fmt::format("tocd_limits_{}_{}", ::getpid(), corner.tester_Hz);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const tocd::test::TempDir dir("limits");
 
   const auto tissue = tocd::mocks::make_analytic_tissue(kThickness_mm);
   // The limit is the sample's load at 1.2 mm, on the way to the 1.8 mm step.
@@ -113,7 +105,6 @@ TEST_P(TesterLimits, LoadOvershootStaysWithinOneControlStepAtTheSlowestPollAndFa
   EXPECT_TRUE(r.steps(run).empty());
   // The engine cleared the latched limit and backed the pin off home.
   EXPECT_NEAR(lab.tester().position_mm(), 0.0, 1e-3);
-  fs::remove_all(dir);
 }
 
 INSTANTIATE_TEST_SUITE_P(Corners, TesterLimits,

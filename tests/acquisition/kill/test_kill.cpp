@@ -15,15 +15,14 @@
 #include "tocd/core/clock.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 extern char** environ;
 namespace fs = std::filesystem;
 using namespace tocd::acquisition;
 
 TEST(AcquisitionKill, SigkillMidStepLosesAtMostTheLastBatchAndTheRunResumes) {
-  const fs::path dir = fs::temp_directory_path() / fmt::format("tocd_acq_kill_{}", ::getpid());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const tocd::test::TempDir dir("acq_kill");
   const fs::path db_path = dir / "runs.db";
 
   int out[2];
@@ -90,5 +89,4 @@ TEST(AcquisitionKill, SigkillMidStepLosesAtMostTheLastBatchAndTheRunResumes) {
   for (const auto& e : after.events(run)) gap = gap || e.kind == "gap";
   EXPECT_TRUE(gap);
   EXPECT_EQ(db.integrity_check(), "ok");
-  fs::remove_all(dir);
 }

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "tocd/acquisition/protocol.hpp"
+#include "tocd/test/error_of.hpp"
 
 using namespace tocd::acquisition;
 
@@ -40,12 +41,7 @@ max_load_N = 30
 )";
 
 std::string error_of(const std::string& text) {
-  try {
-    parse_protocol(text, "p.toml");
-  } catch (const ProtocolError& e) {
-    return e.what();
-  }
-  return "no error";
+  return tocd::test::error_of<ProtocolError>([&] { parse_protocol(text, "p.toml"); });
 }
 
 std::string replace(std::string s, const std::string& from, const std::string& to) {

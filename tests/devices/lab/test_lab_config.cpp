@@ -7,6 +7,7 @@
 
 #include "tocd/core/error.hpp"
 #include "tocd/devices/lab.hpp"
+#include "tocd/test/error_of.hpp"
 #include "tocd/test/files.hpp"
 #include "tocd/test/temp_dir.hpp"
 
@@ -41,12 +42,7 @@ slave_id = 7
 )";
 
 std::string error_of(const std::string& text) {
-  try {
-    parse_lab_config(text, "lab.toml");
-  } catch (const tocd::ConfigError& e) {
-    return e.what();
-  }
-  return "";
+  return tocd::test::error_of<tocd::ConfigError>([&] { parse_lab_config(text, "lab.toml"); });
 }
 
 TEST(LabConfig, ReadsEveryInstrument) {
@@ -157,12 +153,7 @@ TEST(LabConfig, MissingFileIsAConfigError) {
 }
 
 std::string load_error(const std::filesystem::path& path) {
-  try {
-    load_lab_config(path);
-  } catch (const tocd::ConfigError& e) {
-    return e.what();
-  }
-  return "";
+  return tocd::test::error_of<tocd::ConfigError>([&] { load_lab_config(path); });
 }
 
 TEST(LabConfig, EmptyFileDirectoryAndNoInstrumentsAreRefused) {

@@ -11,6 +11,7 @@
 #include "tocd/devices/errors.hpp"
 #include "tocd/devices/power_meter_drivers.hpp"
 #include "tocd/devices/scpi_link.hpp"
+#include "tocd/test/error_of.hpp"
 
 namespace dev = tocd::devices;
 
@@ -39,12 +40,7 @@ dev::PowerReading measure(const std::string& answer) {
 }
 
 std::string refusal(const std::string& answer) {
-  try {
-    measure(answer);
-  } catch (const dev::InvalidReading& e) {
-    return e.what();
-  }
-  return "";
+  return tocd::test::error_of<dev::InvalidReading>([&] { measure(answer); });
 }
 
 }  // namespace

@@ -26,6 +26,8 @@
 #include <unistd.h>
 
 #include "tocd/devices/lab.hpp"
+#include "tocd/test/files.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 extern char** environ;
 
@@ -73,12 +75,7 @@ std::optional<int> wait_exit(pid_t pid, std::chrono::milliseconds limit) {
   }
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using tocd::test::read_file;
 
 /// A non-blocking loopback connection (whether or not the server has taken it yet);
 /// `receive_buffer` > 0 shrinks its receive buffer first.
@@ -151,15 +148,13 @@ class SimlabUnderLoad : public ::testing::Test {
                    << r.rlim_max;
     r.rlim_cur = std::max<rlim_t>(r.rlim_cur, kDescriptorsNeeded);
     ASSERT_EQ(::setrlimit(RLIMIT_NOFILE, &r), 0);
-    dir_ = fs::temp_directory_path() / ("tocd-simlab-load-" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
     lab_file_ = dir_ / "lab.toml";
     simlab_ = spawn({TOCDLAB_EXE, "simlab", "--sample", "analytic", "--write-config", lab_file_.string()},
                     dir_ / "simlab.log");
     ASSERT_GT(simlab_, 0);
     const auto until = Clock::now() + 20s;
-    while (slurp(dir_ / "simlab.log").find("serving until") == std::string::npos) {
-      ASSERT_LT(Clock::now(), until) << "simlab did not start:\n" << slurp(dir_ / "simlab.log");
+    while (read_file(dir_ / "simlab.log").find("serving until") == std::string::npos) {
+      ASSERT_LT(Clock::now(), until) << "simlab did not start:\n" << read_file(dir_ / "simlab.log");
       std::this_thread::sleep_for(20ms);
     }
     lab_ = tocd::devices::load_lab_config(lab_file_.string());
@@ -171,8 +166,6 @@ class SimlabUnderLoad : public ::testing::Test {
       ::kill(simlab_, SIGKILL);
       ::waitpid(simlab_, nullptr, 0);
     }
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
   }
 
   // `tocdlab devices probe` itself, as a user runs it: the worst of three, process start included.
@@ -188,12 +181,13 @@ class SimlabUnderLoad : public ::testing::Test {
       worst = std::max(worst, ms_since(t0));
       EXPECT_TRUE(rc.has_value()) << "probe hung";
       if (!rc) return HUGE_VAL;
-      EXPECT_EQ(*rc, 0) << slurp(dir_ / "probe.log");
+      EXPECT_EQ(*rc, 0) << read_file(dir_ / "probe.log");
     }
     return worst;
   }
 
-  fs::path dir_, lab_file_;
+  tocd::test::TempDir dir_{"simlab_load"};
+  fs::path lab_file_;
   pid_t simlab_ = -1;
   tocd::devices::LabConfig lab_;
 };

@@ -16,18 +16,14 @@
 #include "tocd/mocks/sim_tissue.hpp"
 #include "tocd/mocks/sim_tissue_cache.hpp"
 #include "tocd/mocks/simulated_lab.hpp"
+#include "tocd/test/error_of.hpp"
 
 namespace mocks = tocd::mocks;
 
 namespace {
 
 std::string config_error(const mocks::SampleTruth& t) {
-  try {
-    mocks::validate(t);
-  } catch (const tocd::ConfigError& e) {
-    return e.what();
-  }
-  return "";
+  return tocd::test::error_of<tocd::ConfigError>([&] { mocks::validate(t); });
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "synthetic_profile.hpp"
+#include "tocd/test/error_of.hpp"
 
 namespace geo = tocd::sim::geometry;
 using geo::testing::Indentation;
@@ -11,12 +12,7 @@ using geo::testing::Indentation;
 namespace {
 
 std::string error_of(const geo::CompositeSpec& spec) {
-  try {
-    geo::build_composite(spec);
-  } catch (const geo::GeometryError& e) {
-    return e.what();
-  }
-  return "<no error>";
+  return tocd::test::error_of<geo::GeometryError>([&] { geo::build_composite(spec); });
 }
 
 geo::CompositeSpec indented() {

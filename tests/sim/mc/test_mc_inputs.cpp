@@ -10,21 +10,16 @@
 #include "slab_fixture.hpp"
 #include "tocd/sim/mc/output.hpp"
 #include "tocd/sim/mesh/mesh_error.hpp"
+#include "tocd/test/error_of.hpp"
+#include "tocd/test/files.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace mc = tocd::sim::mc;
 using namespace tocd::sim::mc::testing;
 
 namespace {
 
-template <class E, class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const E& e) {
-    return e.what();
-  }
-  return "<no error>";
-}
+using tocd::test::error_of;
 
 const char* kGoodToml = R"(
 ambient_n = 1.0
@@ -168,13 +163,10 @@ TEST(McOutput, JsonAndVtu) {
   EXPECT_EQ(j["photons"], 2000);
   EXPECT_DOUBLE_EQ(j["transmittance"]["mean"].get<double>(), r.transmittance.mean);
   EXPECT_TRUE(j["exit_by_marker"].contains("2"));
-  const auto path =
-      std::filesystem::temp_directory_path() / ("tocd_mc_" + std::to_string(::getpid()) + ".vtu");
+  const tocd::test::TempDir dir("mc");
+  const auto path = dir / "fluence.vtu";
   mc::write_fluence_vtu(mesh, r, path);
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string text = ss.str();
+  const std::string text = tocd::test::read_file(path);
   EXPECT_NE(text.find("NumberOfCells=\"" + std::to_string(mesh.tets.size()) + "\""), std::string::npos);
   EXPECT_NE(text.find("Name=\"fluence\""), std::string::npos);
   EXPECT_NE(text.find("</VTKFile>"), std::string::npos);

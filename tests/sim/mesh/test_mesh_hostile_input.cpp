@@ -14,31 +14,21 @@
 #include "tocd/sim/mesh/slab_mesh.hpp"
 #include "tocd/sim/mesh/tetgen_io.hpp"
 #include "tocd/sim/mesh/topology.hpp"
+#include "tocd/test/error_of.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace msh = tocd::sim::mesh;
 
 namespace {
 
-std::filesystem::path prefix_for(const std::string& name) {
-  const auto dir =
-      std::filesystem::temp_directory_path() / ("tocd_mesh_hostile_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  return dir / name;
-}
-
 // Writes a valid one-tet mesh whose parts may be replaced, and returns the error of reading it.
 std::string read_error(const std::string& name, const std::string& node, const std::string& ele,
                        const std::string& face = "") {
-  const auto prefix = prefix_for(name);
+  const auto prefix = tocd::test::process_temp_path(name);
   std::ofstream(prefix.string() + ".node") << node;
   std::ofstream(prefix.string() + ".ele") << ele;
   if (!face.empty()) std::ofstream(prefix.string() + ".face") << face;
-  try {
-    msh::read_tetgen(prefix);
-  } catch (const msh::MeshError& e) {
-    return e.what();
-  }
-  return "";
+  return tocd::test::error_of<msh::MeshError>([&] { msh::read_tetgen(prefix); });
 }
 
 const std::string kNode = "4 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n";
@@ -126,7 +116,7 @@ TEST(MeshHostile, RegionAndMarkerOutsideInt32AreRefused) {
 }
 
 TEST(MeshHostile, DirectoryInsteadOfFileIsNamed) {
-  const auto prefix = prefix_for("dir");
+  const auto prefix = tocd::test::process_temp_path("dir");
   std::filesystem::create_directories(prefix.string() + ".node");
   try {
     msh::read_tetgen(prefix);

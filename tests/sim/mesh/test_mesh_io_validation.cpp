@@ -8,16 +8,12 @@
 #include "tocd/sim/mesh/slab_mesh.hpp"
 #include "tocd/sim/mesh/tetgen_io.hpp"
 #include "tocd/sim/mesh/topology.hpp"
+#include "tocd/test/error_of.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace msh = tocd::sim::mesh;
 
 namespace {
-
-std::filesystem::path temp_prefix(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("tocd_mesh_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  return dir / name;
-}
 
 msh::TetMesh two_tets() {
   // Two tets sharing face (1, 2, 3).
@@ -31,12 +27,7 @@ msh::TetMesh two_tets() {
 
 template <class F>
 std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const msh::MeshError& e) {
-    return e.what();
-  }
-  return "";
+  return tocd::test::error_of<msh::MeshError>(f);
 }
 
 }  // namespace
@@ -90,7 +81,7 @@ TEST(TetgenIo, RoundTripKeepsEverything) {
   spec.cells_x = spec.cells_y = 2;
   spec.layers = {{1.0, 3, 1}, {1.0, 4, 1}};
   const msh::TetMesh m = msh::make_slab(spec);
-  const auto prefix = temp_prefix("slab");
+  const auto prefix = tocd::test::process_temp_path("slab");
   msh::write_tetgen(m, prefix);
   const msh::TetMesh back = msh::read_tetgen(prefix);
   EXPECT_EQ(back.nodes, m.nodes);
@@ -104,7 +95,7 @@ TEST(TetgenIo, RoundTripKeepsEverything) {
 }
 
 TEST(TetgenIo, ReadsOneBasedFilesWithComments) {
-  const auto prefix = temp_prefix("one_based");
+  const auto prefix = tocd::test::process_temp_path("one_based");
   std::ofstream(prefix.string() + ".node")
       << "# tetgen output\n4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1 # apex\n";
   std::ofstream(prefix.string() + ".ele") << "1 4 1\n1 1 2 3 4 5\n";
@@ -117,7 +108,7 @@ TEST(TetgenIo, ReadsOneBasedFilesWithComments) {
 }
 
 TEST(TetgenIo, BadFilesNameFileAndLine) {
-  const auto prefix = temp_prefix("bad");
+  const auto prefix = tocd::test::process_temp_path("bad");
   std::ofstream(prefix.string() + ".node") << "2 3 0 0\n0 0 0 0\n1 1 x 0\n";
   const std::string msg = error_of([&] { msh::read_tetgen(prefix); });
   EXPECT_NE(msg.find("bad.node:3"), std::string::npos) << msg;
@@ -129,7 +120,7 @@ TEST(TetgenIo, BadFilesNameFileAndLine) {
   EXPECT_NE(msg2.find("bad.ele:2"), std::string::npos) << msg2;
   EXPECT_NE(msg2.find("out of range"), std::string::npos) << msg2;
 
-  EXPECT_NE(error_of([&] { msh::read_tetgen(temp_prefix("missing")); }).find("cannot open"),
+  EXPECT_NE(error_of([&] { msh::read_tetgen(tocd::test::process_temp_path("missing")); }).find("cannot open"),
             std::string::npos);
 }
 

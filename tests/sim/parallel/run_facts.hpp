@@ -27,11 +27,4 @@ inline void drop_run_facts(nlohmann::json& j) {
   }
 }
 
-inline std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 }  // namespace tocd::testing

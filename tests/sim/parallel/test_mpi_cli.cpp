@@ -15,10 +15,12 @@
 #include <unistd.h>
 
 #include "run_facts.hpp"
+#include "tocd/test/cli.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace fs = std::filesystem;
+using tocd::test::read_file;
 using tocd::testing::drop_run_facts;
-using tocd::testing::slurp;
 
 namespace {
 
@@ -30,28 +32,21 @@ class MpiCli : public ::testing::Test {
     ::setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
     ::setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
     ::setenv("OMPI_MCA_btl_vader_single_copy_mechanism", "none", 1);
-    dir_ = fs::temp_directory_path() /
-           fmt::format("tocd_mpi_cli_{}_{}", ::getpid(),
-                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
     std::ofstream(dir_ / "optics.toml") << "[region.1]\nmu_a = 0.2\nmu_s = 9.0\ng = 0.85\nn = 1.4\n";
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   std::string mpirun(int ranks) const {
     return fmt::format("{} -n {} --oversubscribe {}", MPIEXEC, ranks, TOCDLAB_EXE);
   }
   /// Runs a shell command; stdout and stderr go to out_ and err_. Returns the exit status.
   int shell(const std::string& cmd) {
-    const int rc = std::system(
-        fmt::format("{} > {} 2> {}", cmd, (dir_ / "out").string(), (dir_ / "err").string()).c_str());
-    out_ = slurp(dir_ / "out");
-    err_ = slurp(dir_ / "err");
-    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+    const tocd::test::CliResult r = tocd::test::run_shell(cmd, dir_);
+    out_ = r.out;
+    err_ = r.err;
+    return r.status;
   }
 
-  fs::path dir_;
+  tocd::test::TempDir dir_{"mpi_cli"};
   std::string out_, err_;
 };
 
@@ -79,7 +74,7 @@ TEST_F(MpiCli, McJsonIsTheSameForOneTwoAndThreeRanks) {
     EXPECT_TRUE(fs::exists(vtu));
     EXPECT_FALSE(fs::exists(vtu.string() + ".part"));
     if (ranks > 1) {
-      EXPECT_EQ(slurp(vtu), slurp(dir_ / "fluence1.vtu")) << ranks << " ranks";
+      EXPECT_EQ(read_file(vtu), read_file(dir_ / "fluence1.vtu")) << ranks << " ranks";
     }
   }
 }
@@ -93,7 +88,7 @@ TEST_F(MpiCli, StudySweepTableIsTheSameOnOneAndTwoRanks) {
                                 mpirun(ranks), json.string())),
               0)
         << err_;
-    nlohmann::json j = nlohmann::json::parse(slurp(json));
+    nlohmann::json j = nlohmann::json::parse(read_file(json));
     ASSERT_GE(j["simulations"].size(), 3u);
     drop_run_facts(j);
     tables[ranks - 1] = j.dump();
@@ -117,13 +112,13 @@ TEST_F(MpiCli, KillingOneRankFailsTheJobAndLeavesNoCompleteOutput) {
   }
   // Wait for both ranks to run, then kill one. The ranks are the processes whose command
   // line starts with tocdlab and names this test's folder (mpirun's and the shell's do not).
-  const std::string rank_pattern = fmt::format("^{} mc .*{}", TOCDLAB_EXE, dir_.string());
+  const std::string rank_pattern = fmt::format("^{} mc .*{}", TOCDLAB_EXE, dir_.path().string());
   std::string ranks;
   for (int i = 0; i < 200; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
     const int rc =
         std::system(fmt::format("pgrep -f '{}' > {}", rank_pattern, (dir_ / "pids").string()).c_str());
-    ranks = slurp(dir_ / "pids");
+    ranks = read_file(dir_ / "pids");
     if (rc == 0 && std::count(ranks.begin(), ranks.end(), '\n') >= 2) break;
   }
   std::istringstream pids(ranks);
@@ -147,7 +142,7 @@ TEST_F(MpiCli, KillingOneRankFailsTheJobAndLeavesNoCompleteOutput) {
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_NE(WEXITSTATUS(status), 0);
   EXPECT_FALSE(fs::exists(vtu)) << "a fluence file that looks complete";
-  EXPECT_FALSE(nlohmann::json::accept(slurp(dir_ / "out"))) << "a JSON result on stdout";
+  EXPECT_FALSE(nlohmann::json::accept(read_file(dir_ / "out"))) << "a JSON result on stdout";
   bool survivor = true;
   for (int i = 0; i < 20 && survivor; ++i) {  // mpirun ends its other rank as it exits
     survivor = std::system(fmt::format("pgrep -f '{}' > /dev/null", rank_pattern).c_str()) == 0;

@@ -17,13 +17,13 @@
 #include "tocd/sim/mesh/slab_mesh.hpp"
 #include "tocd/sim/parallel/team.hpp"
 #include "tocd/sim/study/study.hpp"
+#include "tocd/test/files.hpp"
 
 namespace mc = tocd::sim::mc;
 namespace st = tocd::sim::study;
 namespace fs = std::filesystem;
 using tocd::sim::parallel::Team;
 using tocd::testing::drop_run_facts;
-using tocd::testing::slurp;
 
 namespace {
 
@@ -109,6 +109,8 @@ TEST(MpiIdentity, PredictionMatchesOneProcessBitForBit) {
   r.max_edge_mm = 1.0;  // a coarse mesh: this checks identity, not accuracy
   r.tip_edge_mm = 0.2;
   r.threads = 2;
+  // One folder for every rank (not a TempDir, whose name is the process's own): named by
+  // mpirun's process id, which all ranks share.
   const fs::path dir = fs::temp_directory_path() / ("tocd_mpi_predict_" + std::to_string(::getppid()));
   r.fluence_dir = (dir / "shared").string();
   st::Predictor shared_predictor(1, &team());
@@ -129,7 +131,8 @@ TEST(MpiIdentity, PredictionMatchesOneProcessBitForBit) {
   drop_run_facts(b);
   EXPECT_EQ(a, b);
   for (const char* f : {"prediction.vtu", "prediction_horizontal.csv", "prediction_vertical.csv"}) {
-    const std::string one = slurp(dir / "alone" / f), many = slurp(dir / "shared" / f);  // rank 0 wrote both
+    const std::string one = tocd::test::read_file(dir / "alone" / f),
+                      many = tocd::test::read_file(dir / "shared" / f);  // rank 0 wrote both
     EXPECT_FALSE(one.empty()) << f;
     EXPECT_TRUE(one == many) << f << " differs";
   }

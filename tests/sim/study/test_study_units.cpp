@@ -17,6 +17,7 @@
 #include "tocd/sim/study/profile_adapter.hpp"
 #include "tocd/sim/study/study.hpp"
 #include "tocd/sim/study/study_optics.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace st = tocd::sim::study;
 namespace msh = tocd::sim::mesh;
@@ -141,8 +142,7 @@ TEST(StudyFluenceSlices, SampleTheTetValuesOnTheGrid) {
     EXPECT_DOUBLE_EQ(s.p[1], 0.0);
     EXPECT_EQ(s.region, s.p[2] > 1.0 + 1e-9 ? 4 : (s.p[2] < 1.0 - 1e-9 ? 2 : s.region));
   }
-  const auto dir = std::filesystem::temp_directory_path() / "tocd_study_slice_test";
-  std::filesystem::create_directories(dir);
+  const tocd::test::TempDir dir("study_slice_test");
   st::write_slice_csv(v, dir / "v.csv");
   std::ifstream in(dir / "v.csv");
   std::string header, first;
@@ -150,7 +150,6 @@ TEST(StudyFluenceSlices, SampleTheTetValuesOnTheGrid) {
   std::getline(in, first);
   EXPECT_EQ(header, "x_mm,y_mm,z_mm,region,fluence,fluence_se");
   EXPECT_EQ(first.rfind("-2,0,0,2,", 0), 0u) << first;
-  std::filesystem::remove_all(dir);
 }
 
 TEST(StudyFluenceSlices, OutsidePointsAreEmptyAndMissingTalliesAreAnError) {

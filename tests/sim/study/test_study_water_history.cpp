@@ -6,18 +6,14 @@
 
 #include "tocd/core/error.hpp"
 #include "tocd/sim/study/water_history.hpp"
+#include "tocd/test/error_of.hpp"
 
 namespace st = tocd::sim::study;
 
 namespace {
 
 std::string refusal(const st::WaterHistoryRequest& r) {
-  try {
-    st::validate(r);
-  } catch (const tocd::ConfigError& e) {
-    return e.what();
-  }
-  return {};
+  return tocd::test::error_of<tocd::ConfigError>([&] { st::validate(r); });
 }
 
 st::WaterHistoryRequest ramp_and_hold() {

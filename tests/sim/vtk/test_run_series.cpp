@@ -12,30 +12,19 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "cli_runner.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/sim/study/predictor.hpp"
+#include "tocd/test/cli.hpp"
+#include "tocd/test/cli_test.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 namespace st = tocd::sim::study;
 
 namespace {
 
-class RunSeries : public ::testing::Test {
+class RunSeries : public tocd::test::CliTest {
  protected:
-  void SetUp() override {
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  int tocdlab(const std::string& args) {
-    const tocd::test::CliResult r = tocd::test::run_cli(TOCDLAB_EXE, args, dir_);
-    out_ = r.out;
-    err_ = r.err;
-    return r.status;
-  }
-
   // A run with two steps whose stored configs are what the run engine stores: {"quantity",
   // "step", "baseline"}. Few photons: the series, not the physics, is under test.
   std::int64_t make_run(bool with_predictions) {
@@ -66,9 +55,7 @@ class RunSeries : public ::testing::Test {
     return run;
   }
 
-  fs::path dir_ = fs::temp_directory_path() / fmt::format("tocd_run_series_{}", ::getpid());
   fs::path db_ = dir_ / "lab.sqlite";
-  std::string out_, err_;
 };
 
 }  // namespace

@@ -10,6 +10,7 @@
 
 #include "tocd/sim/fe/solve.hpp"
 #include "tocd/sim/study/study.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace st = tocd::sim::study;
 namespace fe = tocd::sim::fe;
@@ -38,11 +39,8 @@ class ParaView : public ::testing::Test {
   void SetUp() override {
     ASSERT_EQ(std::system(fmt::format("{} -c 'import vtkmodules.vtkIOXML'", TOCD_SYSTEM_PYTHON).c_str()), 0)
         << "VTK's Python modules are missing: apt-get install python3-vtk9 (scripts/bootstrap)";
-    std::filesystem::create_directories(dir_);
   }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-  std::filesystem::path dir_ =
-      std::filesystem::temp_directory_path() / fmt::format("tocd_paraview_{}", ::getpid());
+  tocd::test::TempDir dir_{"paraview"};
 };
 
 TEST_F(ParaView, StudyFluenceLoadsAsBinaryAndAsciiWithTheSameArraysAndASeries) {

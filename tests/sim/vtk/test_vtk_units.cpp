@@ -12,21 +12,14 @@
 #include "tocd/core/error.hpp"
 #include "tocd/sim/vtk/pvd.hpp"
 #include "tocd/sim/vtk/vtu.hpp"
+#include "tocd/test/files.hpp"
+#include "tocd/test/temp_dir.hpp"
 
 namespace vtk = tocd::sim::vtk;
 
 namespace {
 
-std::filesystem::path temp(const std::string& name) {
-  return std::filesystem::temp_directory_path() / ("tocd_vtk_" + std::to_string(::getpid()) + "_" + name);
-}
-
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using tocd::test::read_file;
 
 // A line of `n` points, each consecutive pair a line cell (VTK_LINE = 3), with one value per point.
 vtk::UnstructuredGrid line_grid(std::size_t n) {
@@ -63,9 +56,9 @@ TEST(VtkFormat, ParsesItsTwoNamesAndRejectsOthers) {
 TEST(VtuWriter, BinaryArraysAreZlibBlocksWithTheDocumentedHeader) {
   const std::size_t n = 5000;  // 40,000 bytes of Float64 values: one full 32 KiB block and a partial one
   const auto g = line_grid(n);
-  const auto path = temp("line.vtu");
+  const auto path = tocd::test::process_temp_path("line.vtu");
   vtk::write_vtu(g, path);
-  const std::string text = slurp(path);
+  const std::string text = read_file(path);
   EXPECT_NE(text.find("compressor=\"vtkZLibDataCompressor\""), std::string::npos);
   EXPECT_NE(text.find("header_type=\"UInt64\""), std::string::npos);
   const std::string marker = "<AppendedData encoding=\"raw\">\n_";
@@ -100,9 +93,9 @@ TEST(VtuWriter, BinaryArraysAreZlibBlocksWithTheDocumentedHeader) {
 }
 
 TEST(VtuWriter, AsciiIsPlainTextWithNineDigits) {
-  const auto path = temp("line_ascii.vtu");
+  const auto path = tocd::test::process_temp_path("line_ascii.vtu");
   vtk::write_vtu(line_grid(4), path, vtk::Format::ascii);
-  const std::string text = slurp(path);
+  const std::string text = read_file(path);
   EXPECT_EQ(text.find("AppendedData"), std::string::npos);
   EXPECT_EQ(text.find("compressor"), std::string::npos);
   EXPECT_NE(text.find("format=\"ascii\""), std::string::npos);
@@ -114,9 +107,9 @@ TEST(VtuWriter, SinglePrecisionWritesFloat32ThatTheAsciiDigitsRestoreExactly) {
   auto g = line_grid(4);
   g.single_precision = true;
   g.point_data.push_back({"id", 1, std::vector<std::int32_t>{7, 8, 9, 10}});
-  const auto path = temp("line_single.vtu");
+  const auto path = tocd::test::process_temp_path("line_single.vtu");
   vtk::write_vtu(g, path, vtk::Format::ascii);
-  const std::string text = slurp(path);
+  const std::string text = read_file(path);
   EXPECT_EQ(text.find("Float64"), std::string::npos);
   EXPECT_NE(text.find("<DataArray type=\"Float32\" NumberOfComponents=\"3\""), std::string::npos);
   EXPECT_NE(text.find("type=\"Int32\" Name=\"id\""), std::string::npos);  // integers keep their type
@@ -134,9 +127,9 @@ TEST(VtuWriter, CellsAreOrderedByTheirLowestPointsAndTheirDataFollows) {
   g.nodes_per_cell = 2;
   g.cell_type = 3;
   g.cell_data.push_back({"tag", 1, std::vector<std::int32_t>{30, 10, 20}});
-  const auto path = temp("order.vtu");
+  const auto path = tocd::test::process_temp_path("order.vtu");
   vtk::write_vtu(g, path, vtk::Format::ascii);
-  const std::string text = slurp(path);
+  const std::string text = read_file(path);
   EXPECT_NE(text.find("Name=\"connectivity\" format=\"ascii\">\n0 1 2 1 3 2"), std::string::npos) << text;
   EXPECT_NE(text.find("Name=\"tag\" NumberOfComponents=\"1\" format=\"ascii\">\n10 20 30"), std::string::npos)
       << text;
@@ -144,7 +137,7 @@ TEST(VtuWriter, CellsAreOrderedByTheirLowestPointsAndTheirDataFollows) {
 }
 
 TEST(VtuWriter, RejectsArraysThatDoNotMatchThePointsOrCells) {
-  const auto path = temp("bad.vtu");
+  const auto path = tocd::test::process_temp_path("bad.vtu");
   auto g = line_grid(4);
   g.point_data[0].components = 2;
   EXPECT_THROW(vtk::write_vtu(g, path), tocd::Error);
@@ -158,11 +151,11 @@ TEST(VtuWriter, RejectsArraysThatDoNotMatchThePointsOrCells) {
 }
 
 TEST(PvdWriter, ListsFilesBesideItRelativelyWithTheirTimesteps) {
-  const auto dir = temp("series");
+  const auto dir = tocd::test::process_temp_path("series");
   std::filesystem::create_directories(dir);
   vtk::write_pvd({{0, dir / "sim00.vtu"}, {3, dir / "a&b.vtu"}, {7, "/elsewhere/x.vtu"}},
                  dir / "fluence.pvd");
-  const std::string text = slurp(dir / "fluence.pvd");
+  const std::string text = read_file(dir / "fluence.pvd");
   EXPECT_NE(text.find("type=\"Collection\""), std::string::npos);
   EXPECT_NE(text.find("<DataSet timestep=\"0\" group=\"\" part=\"0\" file=\"sim00.vtu\"/>"),
             std::string::npos);

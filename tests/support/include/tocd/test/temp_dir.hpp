@@ -38,4 +38,11 @@ class TempDir {
   std::filesystem::path path_;
 };
 
+/// `name` in a directory of this test process's own, made on first use and removed when the
+/// process exits: for files that outlive one test's scope.
+inline std::filesystem::path process_temp_path(const std::string& name) {
+  static const TempDir dir("process");
+  return dir / name;
+}
+
 }  // namespace tocd::test
