@@ -1,7 +1,6 @@
 #include "tocd/acquisition/protocol.hpp"
 
 #include <cmath>
-#include <fstream>
 #include <initializer_list>
 #include <sstream>
 

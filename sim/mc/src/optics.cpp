@@ -1,8 +1,6 @@
 #include "tocd/sim/mc/optics.hpp"
 
 #include <cmath>
-#include <fstream>
-#include <sstream>
 
 #include <fmt/format.h>
 #include <toml++/toml.h>

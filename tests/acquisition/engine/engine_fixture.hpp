@@ -17,6 +17,9 @@
 
 namespace tocd::acquisition::testing {
 
+// The suites wait with the shared poll (every 2 ms, up to 20 s unless they say otherwise).
+using tocd::test::eventually;
+
 class EngineFixture : public ::testing::Test {
  protected:
   static constexpr double kFactor = 20.0;  // simulated seconds per real second
@@ -25,12 +28,6 @@ class EngineFixture : public ::testing::Test {
     EngineOptions o;
     o.clock_factor = kFactor;
     return o;
-  }
-
-  /// Polls `pred` every 2 ms for up to `seconds` of real time.
-  template <class Pred>
-  static bool eventually(Pred pred, double seconds = 20.0) {
-    return tocd::test::eventually(pred, seconds);
   }
 
   static bool has_event(const tocd::db::Reader& r, std::int64_t run, const std::string& kind,

@@ -1,6 +1,5 @@
 // `tocdlab mc`: photon Monte Carlo on a TetGen mesh or a built-in slab (docs/mc.md).
 #include <iostream>
-#include <limits>
 #include <memory>
 #include <optional>
 #include <string>

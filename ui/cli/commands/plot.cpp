@@ -1,12 +1,10 @@
 // `tocdlab plot`: figures as PNG or SVG files, drawn without a display (docs/plot.md).
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <map>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
 

@@ -1,12 +1,10 @@
 // `tocdlab run`: runs an experiment protocol on the lab's instruments (or the simulated lab)
 // and records it into a measurement database (docs/acquisition.md).
 #include <algorithm>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <memory>
 #include <optional>
-#include <sstream>
 #include <string>
 
 #include <fmt/format.h>
