@@ -135,9 +135,13 @@ void PredictionQueue::run() {
 }
 
 void PredictionQueue::store(const RecordedStep& step, const PredictedStep& p) {
+  db_.add_prediction(prediction_record(run_id_, step.index, p));
+}
+
+db::PredictionRecord prediction_record(std::int64_t run_id, int step_index, const PredictedStep& p) {
   db::PredictionRecord rec;
-  rec.run_id = run_id_;
-  rec.step_index = step.index;
+  rec.run_id = run_id;
+  rec.step_index = step_index;
   rec.config_json = p.config_json;
   rec.T = p.T;
   rec.T_stderr = p.T_stderr;
@@ -147,7 +151,7 @@ void PredictionQueue::store(const RecordedStep& step, const PredictedStep& p) {
   rec.total_seconds = p.seconds;
   rec.software_version = std::string(version());
   rec.summary_json = p.summary_json;
-  db_.add_prediction(rec);
+  return rec;
 }
 
 }  // namespace tocd::acquisition

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <initializer_list>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
@@ -89,7 +91,7 @@ class TableReader {
   }
 
   /// Rejects keys not in `allowed` (typos would otherwise silently fall back to defaults).
-  void only(std::initializer_list<std::string_view> allowed) const {
+  void only(const std::vector<std::string_view>& allowed) const {
     for (const auto& [k, v] : t_) {
       bool ok = false;
       for (auto a : allowed) ok = ok || k.str() == a;
@@ -231,6 +233,35 @@ const toml::table* subtable(const toml::table& doc, const std::string& file, std
     throw ProtocolError(
         fmt::format("{}:{}: {}: must be a table [{}]", file, n->source().begin.line, name, name));
   return t;
+}
+
+/// One number of an optional table: its key, where it lands (holding the default) and its range.
+struct NumberField {
+  std::string_view key;
+  double* value;
+  const Range* range;
+};
+
+/// One true/false of an optional table: its key and where it lands (holding the default).
+struct FlagField {
+  std::string_view key;
+  bool* value;
+};
+
+/// Reads the optional table `name` of plain settings: only the listed keys, each number within
+/// its range, each absent one left at its default. Numbers are read before flags.
+void read_settings_table(const toml::table& doc, const std::string& file, std::string_view name,
+                         std::initializer_list<NumberField> numbers,
+                         std::initializer_list<FlagField> flags = {}) {
+  const auto* t = subtable(doc, file, name, false);
+  if (!t) return;
+  const TableReader r(*t, file, std::string(name));
+  std::vector<std::string_view> keys;
+  for (const auto& f : numbers) keys.push_back(f.key);
+  for (const auto& f : flags) keys.push_back(f.key);
+  r.only(keys);
+  for (const auto& f : numbers) *f.value = r.within(f.key, *f.value, *f.range);
+  for (const auto& f : flags) *f.value = r.flag(f.key, *f.value);
 }
 
 void parse_steps(const TableReader& r, Protocol& p) {
@@ -375,29 +406,19 @@ Protocol parse_protocol(std::string_view toml_text, const std::string& source_na
     p.interrupt_on_move_failure = on_fail == "interrupt";
   }
   parse_steps(TableReader(*subtable(doc, source_name, "steps", true), source_name, "steps"), p);
-  if (const auto* t = subtable(doc, source_name, "settle", false)) {
-    const TableReader r(*t, source_name, "settle");
-    r.only({"max_rate", "window_s", "max_wait_s"});
-    p.settle.max_rate = r.within("max_rate", p.settle.max_rate, kSettleRate);
-    p.settle.window_s = r.within("window_s", p.settle.window_s, kSettleWindow);
-    p.settle.max_wait_s = r.within("max_wait_s", p.settle.max_wait_s, kSettleWait);
-  }
-  if (const auto* t = subtable(doc, source_name, "rates", false)) {
-    const TableReader r(*t, source_name, "rates");
-    r.only({"tester_Hz", "power_Hz", "pressure_Hz"});
-    p.rates.tester_Hz = r.within("tester_Hz", p.rates.tester_Hz, kTesterRate);
-    p.rates.power_Hz = r.within("power_Hz", p.rates.power_Hz, kOtherRate);
-    p.rates.pressure_Hz = r.within("pressure_Hz", p.rates.pressure_Hz, kOtherRate);
-  }
-  if (const auto* t = subtable(doc, source_name, "interlocks", false)) {
-    const TableReader r(*t, source_name, "interlocks");
-    r.only({"max_load_N", "vacuum_loss_kPa", "power_over_range_pauses", "retract_on_trip"});
-    p.interlocks.max_load_N = r.within("max_load_N", p.interlocks.max_load_N, kMaxLoad);
-    p.interlocks.vacuum_loss_kPa = r.within("vacuum_loss_kPa", p.interlocks.vacuum_loss_kPa, kVacuumLoss);
-    p.interlocks.power_over_range_pauses =
-        r.flag("power_over_range_pauses", p.interlocks.power_over_range_pauses);
-    p.interlocks.retract_on_trip = r.flag("retract_on_trip", p.interlocks.retract_on_trip);
-  }
+  read_settings_table(doc, source_name, "settle",
+                      {{"max_rate", &p.settle.max_rate, &kSettleRate},
+                       {"window_s", &p.settle.window_s, &kSettleWindow},
+                       {"max_wait_s", &p.settle.max_wait_s, &kSettleWait}});
+  read_settings_table(doc, source_name, "rates",
+                      {{"tester_Hz", &p.rates.tester_Hz, &kTesterRate},
+                       {"power_Hz", &p.rates.power_Hz, &kOtherRate},
+                       {"pressure_Hz", &p.rates.pressure_Hz, &kOtherRate}});
+  read_settings_table(doc, source_name, "interlocks",
+                      {{"max_load_N", &p.interlocks.max_load_N, &kMaxLoad},
+                       {"vacuum_loss_kPa", &p.interlocks.vacuum_loss_kPa, &kVacuumLoss}},
+                      {{"power_over_range_pauses", &p.interlocks.power_over_range_pauses},
+                       {"retract_on_trip", &p.interlocks.retract_on_trip}});
   check_combinations(doc, source_name, p);
   return p;
 }

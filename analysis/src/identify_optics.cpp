@@ -14,6 +14,7 @@
 #include "tocd/core/error.hpp"
 #include "tocd/sim/material/stiffness_scale.hpp"
 #include "tocd/sim/study/predictor.hpp"
+#include "tocd/sim/study/run_settings.hpp"
 #include "tocd/sim/study/study_optics.hpp"
 
 namespace tocd::analysis {
@@ -130,10 +131,7 @@ class Model {
     r.material = sim::material::scale_stiffness(st::published_skin_material(), scale_);
     r.optics_model = "graded";
     r.graded = g;
-    r.photons = o_.photons;
-    r.seed = o_.seed;
-    r.threads = o_.threads;
-    r.mesh_preset = o_.mesh_preset;
+    st::copy_run_settings(r, o_);
     r.pin_radius_mm = o_.pin_radius_mm;
     return r;
   }

@@ -11,7 +11,9 @@
 
 #include "tocd/core/error.hpp"
 #include "tocd/core/running_stats.hpp"
+#include "tocd/sim/geometry/douglas_peucker.hpp"
 #include "tocd/sim/study/predictor.hpp"
+#include "tocd/sim/study/run_settings.hpp"
 
 namespace tocd::analysis {
 
@@ -28,32 +30,10 @@ double seconds_between(std::int64_t from_ns, std::int64_t to_ns) {
 // fewest knots (among the samples) whose linear interpolation is within tol of every sample.
 std::vector<std::size_t> knots_within(const std::vector<double>& t, const std::vector<double>& d,
                                       double tol) {
-  std::vector<char> keep(t.size(), 0);
-  keep.front() = keep.back() = 1;
-  std::vector<std::pair<std::size_t, std::size_t>> todo{{0, t.size() - 1}};
-  while (!todo.empty()) {
-    const auto [a, b] = todo.back();
-    todo.pop_back();
-    double worst = 0;
-    std::size_t at = a;
-    for (std::size_t i = a + 1; i < b; ++i) {
-      const double u = (t[i] - t[a]) / (t[b] - t[a]);
-      const double e = std::abs(d[i] - (d[a] + u * (d[b] - d[a])));
-      if (e > worst) {
-        worst = e;
-        at = i;
-      }
-    }
-    if (worst > tol) {
-      keep[at] = 1;
-      todo.push_back({a, at});
-      todo.push_back({at, b});
-    }
-  }
-  std::vector<std::size_t> out;
-  for (std::size_t i = 0; i < keep.size(); ++i)
-    if (keep[i]) out.push_back(i);
-  return out;
+  return sim::geometry::douglas_peucker(t.size(), tol, [&](std::size_t i, std::size_t a, std::size_t b) {
+    const double u = (t[i] - t[a]) / (t[b] - t[a]);
+    return std::abs(d[i] - (d[a] + u * (d[b] - d[a])));
+  });
 }
 
 // T of the glass-only configuration (pin tip on the slide, no skin), the reference the
@@ -61,10 +41,7 @@ std::vector<std::size_t> knots_within(const std::vector<double>& t, const std::v
 st::Prediction glass_baseline(const RunWaterCourseOptions& o) {
   st::PredictionRequest r;
   r.baseline = true;
-  r.photons = o.photons;
-  r.seed = o.seed;
-  r.threads = o.threads;
-  r.mesh_preset = o.mesh_preset;
+  st::copy_run_settings(r, o);
   r.pin_radius_mm = o.pin_radius_mm;
   st::Predictor predictor(1);
   return predictor.predict(r);
@@ -143,10 +120,7 @@ st::WaterHistoryRequest water_request(const RunWaterCourse& out, const RunWaterC
   req.drained_poisson = o.drained_poisson;
   req.permeability.k0_mm4_per_Ns = o.k0_mm4_per_Ns;
   req.fe_budget_s = o.fe_budget_s;
-  req.photons = o.photons;
-  req.seed = o.seed;
-  req.threads = o.threads;
-  req.mesh_preset = o.mesh_preset;
+  st::copy_run_settings(req, o);
   return req;
 }
 
@@ -195,15 +169,7 @@ void fill_predictions(RunWaterCourse& out, const std::vector<st::WaterHistoryPoi
   std::size_t k = 0;
   for (auto& ws : out.steps)
     for (auto& p : ws.points) {
-      const auto& q = predicted.at(k++);
-      p.displacement_mm = q.displacement_mm;
-      p.computed = q.computed;
-      p.failure = q.failure;
-      p.pin_force_N = q.pin_force_N;
-      p.water_outflow_mm3 = q.water_outflow_mm3;
-      p.fe_seconds = q.fe_seconds;
-      p.mesh_seconds = q.mesh_seconds;
-      p.mc_seconds = q.mc_seconds;
+      const auto& q = p.predicted = predicted.at(k++);
       if (q.computed) {
         p.T = q.T / base.T;
         p.T_se = p.T * std::hypot(q.T_stderr / q.T, base.T_stderr / base.T);
@@ -283,13 +249,14 @@ std::string format_run_water_course(const RunWaterCourse& c) {
       const std::string meas = p.measured.n > 0
                                    ? fmt::format("{:>9.4f} {:>8.4f}", p.measured.T, p.measured.se)
                                    : fmt::format("{:>9} {:>8}", "-", "-");
-      const std::string pred = p.computed
-                                   ? fmt::format("{:>9.4f} {:>8.4f} {:>10.5f}", p.T, p.T_se, p.pin_force_N)
+      const auto& q = p.predicted;
+      const std::string pred = q.computed
+                                   ? fmt::format("{:>9.4f} {:>8.4f} {:>10.5f}", p.T, p.T_se, q.pin_force_N)
                                    : fmt::format("{:>9} {:>8} {:>10}", "not", "computed", "-");
       s += fmt::format("{:>4} {:>7.3f} {:>8.2f} {:>8.2f} {:>8.4f} {} {}\n", st.index + 1,
-                       st.target_displacement_mm, p.t_s, p.t_window_s, p.displacement_mm, meas, pred);
-      if (!p.computed && p.failure != failure) {
-        failure = p.failure;
+                       st.target_displacement_mm, p.t_s, p.t_window_s, q.displacement_mm, meas, pred);
+      if (!q.computed && q.failure != failure) {
+        failure = q.failure;
         s += fmt::format("     not computed from here: {}\n", failure);
       }
     }
@@ -303,24 +270,25 @@ nlohmann::json to_json(const RunWaterCourse& c) {
   for (const auto& st : c.steps) {
     nlohmann::json pts = nlohmann::json::array();
     for (const auto& p : st.points) {
+      const auto& q = p.predicted;
       nlohmann::json j = {{"t_s", p.t_s},
                           {"t_window_s", p.t_window_s},
-                          {"displacement_mm", p.displacement_mm},
+                          {"displacement_mm", q.displacement_mm},
                           {"measured_T", num(p.measured.T)},
                           {"measured_T_se", num(p.measured.se)},
                           {"measured_samples", p.measured.n},
-                          {"computed", p.computed}};
-      if (p.computed) {
+                          {"computed", q.computed}};
+      if (q.computed) {
         j["predicted_T"] = num(p.T);
         j["predicted_T_se"] = num(p.T_se);
-        j["pin_force_N"] = num(p.pin_force_N);
-        j["water_outflow_mm3"] = num(p.water_outflow_mm3);
+        j["pin_force_N"] = num(q.pin_force_N);
+        j["water_outflow_mm3"] = num(q.water_outflow_mm3);
       } else {
-        j["failure"] = p.failure;
+        j["failure"] = q.failure;
       }
-      j["fe_seconds"] = p.fe_seconds;
-      j["mesh_seconds"] = p.mesh_seconds;
-      j["mc_seconds"] = p.mc_seconds;
+      j["fe_seconds"] = q.fe_seconds;
+      j["mesh_seconds"] = q.mesh_seconds;
+      j["mc_seconds"] = q.mc_seconds;
       pts.push_back(j);
     }
     steps.push_back({{"step", st.index + 1},

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tocd/core/error.hpp"
+#include "tocd/sim/study/run_settings.hpp"
 
 namespace tocd::analysis {
 
@@ -41,10 +42,7 @@ sim::study::PredictionRequest request_of(const SimPredictorSettings& settings, d
   r.thickness_mm = thickness_mm;
   r.material = settings.material;
   r.optics_model = settings.optics_model;
-  r.photons = settings.photons;
-  r.seed = settings.seed;
-  r.mesh_preset = settings.mesh_preset;
-  r.threads = settings.mc_threads;
+  sim::study::copy_run_settings(r, settings);
   return r;
 }
 
@@ -122,8 +120,8 @@ std::future<acquisition::PredictedStep> SimStepPredictor::predict(const acquisit
 
 std::shared_ptr<acquisition::StepPredictor> make_recording_predictor(SimPredictorSettings settings) {
   // One FE + MC prediction at a time: the recorded steps come one by one.
-  if (settings.mc_threads == 0)
-    settings.mc_threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()) - 1);
+  if (settings.threads == 0)
+    settings.threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()) - 1);
   return std::make_shared<SimStepPredictor>(std::make_shared<sim::study::Predictor>(1, nullptr, true),
                                             settings);
 }

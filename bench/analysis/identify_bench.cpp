@@ -18,6 +18,7 @@
 #include "tocd/mocks/sample_truth.hpp"
 #include "tocd/mocks/sim_tissue_cache.hpp"
 #include "tocd/mocks/simulated_lab.hpp"
+#include "tocd/test/simulated_run.hpp"
 
 namespace acq = tocd::acquisition;
 namespace mocks = tocd::mocks;
@@ -36,16 +37,12 @@ int main(int argc, char** argv) {
     lo.tissue = mocks::make_default_sample(protocol.sample.thickness_mm, 1.5, so);
     lo.clock_factor = 5;
     mocks::SimulatedLab lab(lo);
-    tocd::db::Database db(db_path);
-    acq::LabSessionOptions session;
-    session.engine.clock_factor = lo.clock_factor;
-    session.engine.unattended = true;
-    acq::LabSession lab_session(db, lab.config(), session);
-    run = lab_session.engine().start(protocol);
-    if (lab_session.engine().wait() != acq::EngineState::completed) {
+    const auto recorded = tocd::test::record_on_simulated_lab(db_path, lab, lo.clock_factor, protocol);
+    if (recorded.end != acq::EngineState::completed) {
       std::cerr << "identify_bench: the demo run did not complete\n";
       return 1;
     }
+    run = recorded.id;
   }
   tocd::analysis::SampleIdentificationOptions io;
   io.monte_carlo.photons = photons;

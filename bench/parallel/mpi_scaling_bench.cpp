@@ -10,10 +10,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <vector>
 
+#include "slab_problems.hpp"
 #include "tocd/sim/mc/run.hpp"
 #include "tocd/sim/mesh/slab_mesh.hpp"
 #include "tocd/sim/parallel/team.hpp"
@@ -27,44 +26,20 @@ double now_s() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-// The air / skin / glass slab of mc_bench (b): 10 x 10 mm, 1 + 2.5 + 1 mm.
-msh::SlabSpec layered_slab(int cells) {
-  auto z = [cells](double t) { return std::max(1, static_cast<int>(cells * t / 10.0 + 0.5)); };
-  msh::SlabSpec s;
-  s.width_mm = s.depth_mm = 10.0;
-  s.cells_x = s.cells_y = cells;
-  s.layers = {{1.0, 3, z(1.0)}, {2.5, 1, z(2.5)}, {1.0, 2, z(1.0)}};
-  return s;
-}
-
-mc::Optics optics() {
-  mc::Optics o;
-  o.regions[1] = {0.089, 28.9, 0.926, 1.38, "skin"};
-  o.regions[2] = {0.001, 0.001, 1.0, 1.458, "glass"};
-  o.regions[3] = {0.001, 0.001, 1.0, 1.003, "air"};
-  return o;
-}
-
 }  // namespace
 
+using tocd::bench::layered_slab;
+using tocd::bench::slab_optics;
+
 int main(int argc, char** argv) {
-  std::uint64_t photons = 1'000'000;
-  int threads = 1, cells = 32;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    if (!std::strcmp(argv[i], "--photons"))
-      photons = std::strtoull(argv[i + 1], nullptr, 10);
-    else if (!std::strcmp(argv[i], "--threads"))
-      threads = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--cells"))
-      cells = std::atoi(argv[i + 1]);
-    else {
-      std::fprintf(stderr, "usage: mpi_scaling_bench [--photons N] [--threads N] [--cells N]\n");
-      return 2;
-    }
-  }
+  tocd::bench::SlabBenchOptions o;
+  if (!tocd::bench::parse_slab_bench_options(argc, argv, "mpi_scaling_bench", o)) return 2;
+  const std::uint64_t photons = o.photons;
+  const int threads = o.threads;
   auto& team = tocd::sim::parallel::world();
   const bool root = team.rank() == 0;
-  const mc::PreparedMesh mesh = mc::prepare(msh::make_slab(layered_slab(cells)));
+  // The air / skin / glass slab of mc_bench (b): 10 x 10 mm, 1 + 2.5 + 1 mm.
+  const mc::PreparedMesh mesh = mc::prepare(msh::make_slab(layered_slab(o.cells)));
   mc::Source beam;
   beam.origin = {0.0123, -0.0217, 10.0};
   mc::RunSettings s;
@@ -75,14 +50,14 @@ int main(int argc, char** argv) {
   s.team = &team;
 
   s.photons = photons / 20;
-  mc::run(mesh, optics(), beam, s);  // warm-up
+  mc::run(mesh, slab_optics(), beam, s);  // warm-up
   s.photons = photons;
-  const mc::Result r = mc::run(mesh, optics(), beam, s);
+  const mc::Result r = mc::run(mesh, slab_optics(), beam, s);
 
   // The same run in its parts, timed apart.
   const int b0 = s.batches * team.rank() / team.size(), b1 = s.batches * (team.rank() + 1) / team.size();
   double t = now_s();
-  mc::Tallies tallies = mc::run_batches(mesh, optics(), beam, s, b0, b1);
+  mc::Tallies tallies = mc::run_batches(mesh, slab_optics(), beam, s, b0, b1);
   const double compute_s = now_s() - t;
   std::int64_t one = 1;
   team.sum(std::span(&one, 1));  // line up the ranks so the sum times the sum, not the wait
@@ -90,7 +65,7 @@ int main(int argc, char** argv) {
   team.sum(tallies.words);
   const double sum_s = now_s() - t;
   t = now_s();
-  const mc::Result parts = mc::finish(mesh, optics(), s, tallies);
+  const mc::Result parts = mc::finish(mesh, slab_optics(), s, tallies);
   const double finish_s = now_s() - t;
 
   // The sum alone for a 0.5 M-tet mesh's tallies.

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "tocd/db/database.hpp"
@@ -170,6 +171,17 @@ RunRecord require_run(const Connection& c, std::int64_t run_id) {
   auto r = find_run(c, run_id);
   if (!r) throw DatabaseError("no run with id " + std::to_string(run_id) + " in this database");
   return *r;
+}
+
+/// One run's rows of a record, ordered by `order_by`: `select` is the record's SELECT (kAnchorSelect
+/// and the like), `from_row(row, run_id)` its reader. The backend of `c` gives read_rows and the
+/// text of its first query parameter (run_id_parameter).
+template <class Connection, class FromRow>
+auto read_run_rows(const Connection& c, std::string_view select, std::string_view order_by,
+                   std::int64_t run_id, FromRow from_row) {
+  const std::string sql =
+      std::string(select) + " WHERE run_id = " + run_id_parameter(c) + " ORDER BY " + std::string(order_by);
+  return read_rows(c, sql, run_id, [&](const auto& row) { return from_row(row, run_id); });
 }
 
 /// The first step index not in `completed` (the completed steps' indices, ascending): where a

@@ -34,18 +34,15 @@ std::vector<RunRecord> all_runs(const Connection& c) {
 }
 
 std::vector<RunAnchor> run_anchors(const Connection& c, std::int64_t run_id) {
-  return read_rows(c, std::string(kAnchorSelect) + " WHERE run_id = ? ORDER BY segment", run_id,
-                   [&](const Row& row) { return anchor_from_row(row, run_id); });
+  return read_run_rows(c, kAnchorSelect, "segment", run_id, anchor_from_row<Row>);
 }
 
 std::vector<Channel> run_channels(const Connection& c, std::int64_t run_id) {
-  return read_rows(c, std::string(kChannelSelect) + " WHERE run_id = ? ORDER BY id", run_id,
-                   [&](const Row& row) { return channel_from_row(row, run_id); });
+  return read_run_rows(c, kChannelSelect, "id", run_id, channel_from_row<Row>);
 }
 
 std::vector<StepRecord> run_steps(const Connection& c, std::int64_t run_id) {
-  auto out = read_rows(c, std::string(kStepSelect) + " WHERE run_id = ? ORDER BY step_index", run_id,
-                       [&](const Row& row) { return step_from_row(row, run_id); });
+  auto out = read_run_rows(c, kStepSelect, "step_index", run_id, step_from_row<Row>);
   const auto by_id = index_by_id(out);
   Statement stats(c, std::string(kStepStatsSelect) + " WHERE s.run_id = ? ORDER BY x.step_id, x.channel_id");
   stats.bind(1, run_id);
@@ -54,13 +51,11 @@ std::vector<StepRecord> run_steps(const Connection& c, std::int64_t run_id) {
 }
 
 std::vector<EventRecord> run_events(const Connection& c, std::int64_t run_id) {
-  return read_rows(c, std::string(kEventSelect) + " WHERE run_id = ? ORDER BY t_ns, id", run_id,
-                   [&](const Row& row) { return event_from_row(row, run_id); });
+  return read_run_rows(c, kEventSelect, "t_ns, id", run_id, event_from_row<Row>);
 }
 
 std::vector<PredictionRecord> run_predictions(const Connection& c, std::int64_t run_id) {
-  return read_rows(c, std::string(kPredictionSelect) + " WHERE run_id = ? ORDER BY step_index, id", run_id,
-                   [&](const Row& row) { return prediction_from_row(row, run_id); });
+  return read_run_rows(c, kPredictionSelect, "step_index, id", run_id, prediction_from_row<Row>);
 }
 
 std::vector<InstrumentRecord> instruments(const Connection& c) {

@@ -97,6 +97,11 @@ class Row {
   const Statement& s_;
 };
 
+/// How a query names its first parameter (read_run_rows writes its WHERE clause with it).
+inline std::string run_id_parameter(const Connection&) {
+  return "?";
+}
+
 /// Every row of `sql`, its one parameter bound to `key`, as `read(const Row&)` makes it.
 template <class Read>
 auto read_rows(const Connection& c, std::string_view sql, std::int64_t key, Read read) {

@@ -13,6 +13,7 @@
 
 #include <fmt/format.h>
 
+#include "batch_rows.hpp"
 #include "pg/pg_batch.hpp"
 #include "schema.hpp"
 #include "sqlite_util.hpp"
@@ -229,38 +230,33 @@ struct Writer::Impl {
           q.bind(1, run);
           return segment[run] = q.step() ? q.col_int(0) : 0;
         };
-        std::int64_t last_bad = 0;
-        for (const auto& s : batch) {
-          const std::int64_t run = run_of(s.channel_id);
-          if (run == 0) {
-            ++rejected;
-            last_bad = s.channel_id;
-            continue;
-          }
-          ins.bind(1, run).bind(2, s.channel_id).bind(3, s.t_ns).bind(4, s.value).bind(5, segment_of(run));
-          ins.step();
-          sqlite3_reset(ins.get());  // every parameter is bound again for the next row
-          ++written;
-        }
-        if (last_bad != 0) error = fmt::format("samples for unknown channel id {} were rejected", last_bad);
+        detail::write_known_samples(
+            batch, [&](std::int64_t channel_id) { return run_of(channel_id); },
+            [&](std::int64_t run, const Sample& s) {
+              ins.bind(1, run)
+                  .bind(2, s.channel_id)
+                  .bind(3, s.t_ns)
+                  .bind(4, s.value)
+                  .bind(5, segment_of(run));
+              ins.step();
+              sqlite3_reset(ins.get());  // every parameter is bound again for the next row
+            },
+            written, rejected, error);
         detail::Statement ev(
             c,
             "INSERT INTO events(run_id, t_ns, kind, message, step_index, data_json, segment) "
             "VALUES(?,?,?,?,?,?,?)");
-        for (const auto& e : evs) {
-          if (!has_run(e.run_id)) {
-            ++rejected;
-            error = fmt::format("an event for unknown run id {} was rejected", e.run_id);
-            continue;
-          }
-          ev.bind(1, e.run_id).bind(2, e.t_ns).bind(3, e.kind).bind(4, e.message);
-          if (e.step_index >= 0) ev.bind(5, e.step_index);
-          if (!e.data_json.empty()) ev.bind(6, e.data_json);
-          ev.bind(7, segment_of(e.run_id));
-          ev.run();
-          ev.reset();
-          ++written;
-        }
+        detail::write_known_events(
+            evs, [&](std::int64_t run_id) { return has_run(run_id); },
+            [&](const EventRecord& e) {
+              ev.bind(1, e.run_id).bind(2, e.t_ns).bind(3, e.kind).bind(4, e.message);
+              if (e.step_index >= 0) ev.bind(5, e.step_index);
+              if (!e.data_json.empty()) ev.bind(6, e.data_json);
+              ev.bind(7, segment_of(e.run_id));
+              ev.run();
+              ev.reset();
+            },
+            written, rejected, error);
         t.commit();
         failed = 0;
         return;

@@ -40,6 +40,7 @@
 #include "tocd/mocks/default_sample.hpp"
 #include "tocd/mocks/sample_truth.hpp"
 #include "tocd/mocks/simulated_lab.hpp"
+#include "tocd/test/simulated_run.hpp"
 #include "tocd/test/temp_dir.hpp"
 
 namespace fs = std::filesystem;
@@ -94,17 +95,17 @@ int allowed_misses(std::size_t samples) {
   return samples >= 20 ? 3 : 1;
 }
 
-// The truth of each identified parameter, by the identification's names.
+// The truth of each identified parameter, by the identification's names: the truth's own names
+// (mocks::kSampleTruthFields), but for the relaxation's, which the identification calls g1 and tau1_s.
 std::map<std::string, double> truth_by_name(const mocks::SampleTruth& t) {
-  return {{"stiffness_scale", t.stiffness_scale},
-          {"g1", t.relaxation_fraction},
-          {"tau1_s", t.relaxation_time_s},
-          {"delayed_clearing", t.delayed_clearing},
-          {"delayed_clearing_time_s", t.delayed_clearing_time_s},
-          {"cleared_mu_a_fraction", t.cleared_mu_a_fraction},
-          {"cleared_mu_s_fraction", t.cleared_mu_s_fraction},
-          {"cleared_n_fraction", t.cleared_n_fraction},
-          {"full_clearing_strain", t.full_clearing_strain}};
+  const std::map<std::string, std::string> identified_as{{"relaxation_fraction", "g1"},
+                                                         {"relaxation_time_s", "tau1_s"}};
+  std::map<std::string, double> out;
+  for (const auto& f : mocks::kSampleTruthFields) {
+    const auto renamed = identified_as.find(f.name);
+    out[renamed == identified_as.end() ? std::string(f.name) : renamed->second] = t.*f.value;
+  }
+  return out;
 }
 
 // Records the demo protocol on a simulated lab with this truth; returns the run id.
@@ -118,14 +119,9 @@ std::int64_t record_demo(const fs::path& db_path, const mocks::SampleTruth& trut
   lo.clock_factor = 2;
   lo.seed = seed;
   mocks::SimulatedLab lab(lo);
-  tocd::db::Database db(db_path);
-  acq::LabSessionOptions session;
-  session.engine.clock_factor = lo.clock_factor;
-  session.engine.unattended = true;
-  acq::LabSession lab_session(db, lab.config(), session);
-  const std::int64_t run = lab_session.engine().start(protocol);
-  EXPECT_EQ(lab_session.engine().wait(), acq::EngineState::completed);
-  return run;
+  const auto run = tocd::test::record_on_simulated_lab(db_path, lab, lo.clock_factor, protocol);
+  EXPECT_EQ(run.end, acq::EngineState::completed);
+  return run.id;
 }
 
 }  // namespace

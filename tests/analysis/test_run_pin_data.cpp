@@ -14,7 +14,6 @@
 #include "tocd/core/error.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
-#include "tocd/db/writer.hpp"
 
 namespace fs = std::filesystem;
 namespace an = tocd::analysis;
@@ -37,15 +36,9 @@ std::int64_t record_run(const fs::path& path, const std::vector<StepSpec>& steps
       db, with_thickness ? kRunThickness : std::nan(""), "held");
   const auto d_id = run.displacement_channel, l_id = run.load_channel;
   {
-    tocd::db::Writer w(db);
-    std::int64_t t = 1000;
-    for (int i = 1; i <= 1500; ++i) {
-      w.enqueue(tocd::db::Sample{d_id, t, i * 1e-3});
-      w.enqueue(tocd::db::Sample{l_id, t, 0.1 * i * 1e-3});
-      t += 1000;
-    }
-    w.flush();
-    w.stop();
+    tocd::acquisition::testing::TesterSampleWriter w(db, run);
+    for (int i = 1; i <= 1500; ++i) w.put(i * 1e-3, 0.1 * i * 1e-3);
+    w.finish();
   }
   for (std::size_t k = 0; k < steps.size(); ++k) {
     tocd::db::StepRecord s;

@@ -14,7 +14,6 @@
 #include "tocd/core/error.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/reader.hpp"
-#include "tocd/db/writer.hpp"
 
 namespace fs = std::filesystem;
 namespace an = tocd::analysis;
@@ -31,19 +30,11 @@ std::int64_t record_run(const fs::path& path, bool with_thickness) {
   tocd::db::Database db(path.string());
   const auto run = tocd::acquisition::testing::create_tester_run(
       db, with_thickness ? kThickness : std::nan(""), "synthetic");
-  const auto d_id = run.displacement_channel, l_id = run.load_channel;
-  tocd::db::Writer w(db);
-  std::int64_t t = 1000;
-  auto put = [&](double d, double load) {
-    w.enqueue(tocd::db::Sample{d_id, t, d});
-    w.enqueue(tocd::db::Sample{l_id, t, load});
-    t += 1000;
-  };
-  for (int i = -100; i <= 1200; ++i) put(i * 1e-3, i > 0 ? load_of(i * 1e-3) : 0.0);
-  for (int i = 0; i < 500; ++i) put(1.2, 0.5 * load_of(1.2));  // relaxation while holding: excluded
-  for (int i = 1200; i >= 0; i -= 2) put(i * 1e-3, 0.2 * load_of(i * 1e-3));  // retraction: excluded
-  w.flush();
-  w.stop();
+  tocd::acquisition::testing::TesterSampleWriter w(db, run);
+  for (int i = -100; i <= 1200; ++i) w.put(i * 1e-3, i > 0 ? load_of(i * 1e-3) : 0.0);
+  for (int i = 0; i < 500; ++i) w.put(1.2, 0.5 * load_of(1.2));  // relaxation while holding: excluded
+  for (int i = 1200; i >= 0; i -= 2) w.put(i * 1e-3, 0.2 * load_of(i * 1e-3));  // retraction: excluded
+  w.finish();
   db.set_run_status(run.run_id, tocd::db::RunStatus::completed);
   return run.run_id;
 }

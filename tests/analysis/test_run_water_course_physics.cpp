@@ -36,9 +36,10 @@ TEST_F(RunWaterCourse, PredictsInsideEachHoldNextToTheMeasuredPower) {
     EXPECT_GE(p.t_s, kWindows[k].from_s);
     EXPECT_LE(p.t_s, kWindows[k].to_s);
     EXPECT_NEAR(p.t_window_s, p.t_s - kWindows[k].from_s, 1e-9);
-    EXPECT_NEAR(p.displacement_mm, kWindows[k].depth_mm, 1e-9) << "the pin holds still in the window";
+    EXPECT_NEAR(p.predicted.displacement_mm, kWindows[k].depth_mm, 1e-9)
+        << "the pin holds still in the window";
     EXPECT_NEAR(p.measured.T, mean_T(p.t_s - 0.5, p.t_s + 0.5), 1e-12);
-    ASSERT_TRUE(p.computed) << p.failure;
+    ASSERT_TRUE(p.predicted.computed) << p.predicted.failure;
     EXPECT_TRUE(std::isfinite(p.T));
     EXPECT_GT(p.T_se, 0.0);
   }
@@ -56,7 +57,7 @@ TEST_F(RunWaterCourse, PredictsInsideEachHoldNextToTheMeasuredPower) {
   // A thinner layer under the pin transmits more (shorter path through a scattering slab).
   const auto& p2 = c.steps[2].points[0];
   EXPECT_GT(p2.T - p0.T, 3 * std::hypot(p0.T_se, p2.T_se));
-  EXPECT_GT(p2.pin_force_N, c.steps[1].points[0].pin_force_N);
+  EXPECT_GT(p2.predicted.pin_force_N, c.steps[1].points[0].predicted.pin_force_N);
 }
 
 // The FE stops (here: its wall-time budget is spent by the first point's mesh): the points

@@ -10,7 +10,9 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include "tocd/db/database.hpp"
@@ -109,11 +111,32 @@ class TestDatabase {
   std::string location_;
 };
 
+/// A test with a fresh database of its own, open for writing from its start.
+class OpenDatabaseTest : public ::testing::Test {
+ protected:
+  TestDatabase dir_;
+  const std::string path_ = dir_.location();
+  Database db_{path_};
+};
+
 /// A new run in `db` with one channel `name` in `unit`: what a test records samples into.
 inline Channel run_with_channel(Database& db, const std::string& name, const std::string& unit,
                                 double nominal_rate_Hz = kUnset) {
   const auto run = db.create_run({}).id;
   return db.add_channel({0, run, name, unit, 0, nominal_rate_Hz});
+}
+
+/// A prediction of step `step` of `run` as a test stores one: the config that made it and its
+/// T (and standard error); timings, version and summary left unset.
+inline PredictionRecord prediction_of(std::int64_t run, int step, std::string config_json, double T,
+                                      double T_stderr = kUnset) {
+  PredictionRecord p;
+  p.run_id = run;
+  p.step_index = step;
+  p.config_json = std::move(config_json);
+  p.T = T;
+  p.T_stderr = T_stderr;
+  return p;
 }
 
 }  // namespace tocd::db::testing

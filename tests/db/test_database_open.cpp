@@ -39,9 +39,14 @@ std::int64_t pragma(const std::filesystem::path& p, const std::string& name) {
   return raw_int(p, "PRAGMA " + name);
 }
 
-TEST(DbOpen, NewFileGetsCurrentSchemaIdentityAndWal) {
-  const TempDir dir("db_open");
-  const auto path = dir / "lab.sqlite";
+// Each test opens files of its own in a fresh folder.
+class DbOpen : public ::testing::Test {
+ protected:
+  const TempDir dir_{"db_open"};
+};
+
+TEST_F(DbOpen, NewFileGetsCurrentSchemaIdentityAndWal) {
+  const auto path = dir_ / "lab.sqlite";
   {
     Database db = Database::open(path);
     EXPECT_EQ(db.schema_version(), Database::kSchemaVersion);
@@ -67,9 +72,8 @@ TEST(DbOpen, NewFileGetsCurrentSchemaIdentityAndWal) {
   EXPECT_EQ(again.journal_mode(), "wal");
 }
 
-TEST(DbOpen, EveryDocumentedTableExists) {
-  const TempDir dir("db_open");
-  const auto path = dir / "lab.sqlite";
+TEST_F(DbOpen, EveryDocumentedTableExists) {
+  const auto path = dir_ / "lab.sqlite";
   { Database db(path); }
   for (const char* table : {"meta", "instruments", "specimens", "runs", "run_anchors", "channels", "samples",
                             "steps", "step_channel_stats", "events", "predictions"}) {
@@ -80,29 +84,26 @@ TEST(DbOpen, EveryDocumentedTableExists) {
   }
 }
 
-TEST(DbOpen, EmptyFileAndEmptySqliteFileAreInitialised) {
-  const TempDir dir("db_open");
-  const auto empty = dir / "empty.sqlite";
+TEST_F(DbOpen, EmptyFileAndEmptySqliteFileAreInitialised) {
+  const auto empty = dir_ / "empty.sqlite";
   ASSERT_TRUE(write_file(empty, ""));
   EXPECT_EQ(Database(empty).schema_version(), Database::kSchemaVersion);
-  const auto blank = dir / "blank.sqlite";
+  const auto blank = dir_ / "blank.sqlite";
   make_sqlite(blank, "PRAGMA user_version = 0");
   EXPECT_EQ(Database(blank).schema_version(), Database::kSchemaVersion);
 }
 
-TEST(DbOpen, PartlyInitialisedTocdlabFileIsMigrated) {
+TEST_F(DbOpen, PartlyInitialisedTocdlabFileIsMigrated) {
   // application_id set, user_version 0 (e.g. a creation cut off before the first migration).
-  const TempDir dir("db_open");
-  const auto path = dir / "partial.sqlite";
+  const auto path = dir_ / "partial.sqlite";
   make_sqlite(path, "PRAGMA application_id = " + std::to_string(Database::kApplicationId));
   Database db(path);
   EXPECT_EQ(db.schema_version(), Database::kSchemaVersion);
   EXPECT_EQ(db.integrity_check(), "ok");
 }
 
-TEST(DbOpen, TextFileIsRefusedAndUntouched) {
-  const TempDir dir("db_open");
-  const auto path = dir / "notes.sqlite";
+TEST_F(DbOpen, TextFileIsRefusedAndUntouched) {
+  const auto path = dir_ / "notes.sqlite";
   ASSERT_TRUE(write_file(path, "step,load\n1,2.5\n this is a CSV, not a database\n"));
   const std::string before = read_file(path);
   const std::string msg = error_of(path);
@@ -115,9 +116,8 @@ TEST(DbOpen, TextFileIsRefusedAndUntouched) {
   EXPECT_EQ(read_file(path), before);
 }
 
-TEST(DbOpen, OtherApplicationsSqliteFileIsRefusedAndUntouched) {
-  const TempDir dir("db_open");
-  const auto path = dir / "other.sqlite";
+TEST_F(DbOpen, OtherApplicationsSqliteFileIsRefusedAndUntouched) {
+  const auto path = dir_ / "other.sqlite";
   make_sqlite(path,
               "CREATE TABLE photos(id INTEGER PRIMARY KEY, name TEXT); INSERT INTO photos VALUES(1, 'a');");
   const std::string before = read_file(path);
@@ -126,16 +126,15 @@ TEST(DbOpen, OtherApplicationsSqliteFileIsRefusedAndUntouched) {
   EXPECT_THAT(msg, HasSubstr("left untouched"));
   EXPECT_EQ(read_file(path), before);
   // Also with a foreign application id and no tables.
-  const auto tagged = dir / "tagged.sqlite";
+  const auto tagged = dir_ / "tagged.sqlite";
   make_sqlite(tagged, "PRAGMA application_id = 1234");
   const std::string tagged_before = read_file(tagged);
   EXPECT_THAT(error_of(tagged), HasSubstr("application_id 0x000004D2"));
   EXPECT_EQ(read_file(tagged), tagged_before);
 }
 
-TEST(DbOpen, NewerSchemaIsRefusedAndUntouched) {
-  const TempDir dir("db_open");
-  const auto path = dir / "future.sqlite";
+TEST_F(DbOpen, NewerSchemaIsRefusedAndUntouched) {
+  const auto path = dir_ / "future.sqlite";
   { Database db(path); }
   make_sqlite(path, "PRAGMA user_version = " + std::to_string(Database::kSchemaVersion + 7));
   const std::string before = read_file(path);
@@ -148,12 +147,11 @@ TEST(DbOpen, NewerSchemaIsRefusedAndUntouched) {
   EXPECT_EQ(read_file(path), before);
 }
 
-TEST(DbOpen, UnopenablePathsAreDatabaseErrors) {
+TEST_F(DbOpen, UnopenablePathsAreDatabaseErrors) {
   EXPECT_THROW(Database("/nonexistent-dir/x/y.sqlite"), DatabaseError);
-  const TempDir dir("db_open");
-  EXPECT_THAT(error_of(dir.path()), HasSubstr("not a regular file"));
-  EXPECT_THROW(tocd::db::Reader{dir / "absent.sqlite"}, DatabaseError);
-  EXPECT_FALSE(std::filesystem::exists(dir / "absent.sqlite"));
+  EXPECT_THAT(error_of(dir_.path()), HasSubstr("not a regular file"));
+  EXPECT_THROW(tocd::db::Reader{dir_ / "absent.sqlite"}, DatabaseError);
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "absent.sqlite"));
 }
 
 }  // namespace

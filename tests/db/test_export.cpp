@@ -16,6 +16,7 @@
 namespace {
 
 using namespace tocd::db;
+using tocd::db::testing::prediction_of;
 using tocd::db::testing::TestDatabase;
 
 std::vector<std::string> lines(const std::string& text) {
@@ -70,13 +71,7 @@ class DbExport : public ::testing::Test {
     st.channels = {};
     db.add_step(st);
     db.add_event({0, run_.id, t(5), "operator", "note, with \"quotes\"\nand a line break", 0, ""});
-    PredictionRecord p;
-    p.run_id = run_.id;
-    p.step_index = 0;
-    p.config_json = R"({"photons":1000,"seed":7})";
-    p.T = 0.375;
-    p.T_stderr = 0.01;
-    db.add_prediction(p);
+    db.add_prediction(prediction_of(run_.id, 0, R"({"photons":1000,"seed":7})", 0.375, 0.01));
     db.set_run_status(run_.id, RunStatus::completed);
   }
   std::int64_t t(int i) const { return run_.monotonic_anchor_ns + 1'000'000LL * i; }  // 1 kHz

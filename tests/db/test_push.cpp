@@ -24,6 +24,7 @@ namespace {
 
 using namespace tocd::db;
 using ::testing::HasSubstr;
+using tocd::db::testing::prediction_of;
 using tocd::db::testing::TestDatabase;
 using tocd::test::TempDir;
 
@@ -49,11 +50,7 @@ std::int64_t record_run(Database& db, std::int64_t samples, RunStatus end = RunS
   st.measured_transmission = 0.5;
   st.channels = {{load.id, 2.0, 0.1, 40}, {power.id, 5e-4, 1e-5, 4}};
   db.add_step(st);
-  PredictionRecord p;
-  p.run_id = run.id;
-  p.config_json = R"({"seed":1})";
-  p.T = 0.4;
-  db.add_prediction(p);
+  db.add_prediction(prediction_of(run.id, 0, R"({"seed":1})", 0.4));
   if (end != RunStatus::running) db.set_run_status(run.id, end);
   return run.id;
 }

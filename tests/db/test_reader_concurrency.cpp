@@ -18,19 +18,19 @@
 namespace {
 
 using namespace tocd::db;
+using tocd::db::testing::OpenDatabaseTest;
 using tocd::db::testing::run_with_channel;
 using tocd::db::testing::TestDatabase;
 
-TEST(DbConcurrency, ReadersSeeCommittedPrefixesWhileTheWriterWrites) {
-  TestDatabase dir;
-  const auto path = dir.location();
-  Database db(path);
-  const Channel ch = run_with_channel(db, "load", "N", 1000.0);
+class DbConcurrency : public OpenDatabaseTest {};
+
+TEST_F(DbConcurrency, ReadersSeeCommittedPrefixesWhileTheWriterWrites) {
+  const Channel ch = run_with_channel(db_, "load", "N", 1000.0);
   const auto run = ch.run_id;
-  Writer w(db, {.batch_interval = std::chrono::milliseconds(5),
-                .batch_rows = 2000,
-                .queue_capacity = 1'000'000,
-                .on_failure = {}});
+  Writer w(db_, {.batch_interval = std::chrono::milliseconds(5),
+                 .batch_rows = 2000,
+                 .queue_capacity = 1'000'000,
+                 .on_failure = {}});
 
   // Background readers hammer the file the whole time; any error (SQLITE_BUSY included) or a
   // non-prefix view fails the test.
@@ -40,7 +40,7 @@ TEST(DbConcurrency, ReadersSeeCommittedPrefixesWhileTheWriterWrites) {
   for (int r = 0; r < 2; ++r) {
     readers.emplace_back([&] {
       try {
-        Reader rd(path);
+        Reader rd(path_);
         std::size_t last = 0;
         while (!done.load()) {
           const auto got = rd.samples(ch.id);
@@ -59,19 +59,19 @@ TEST(DbConcurrency, ReadersSeeCommittedPrefixesWhileTheWriterWrites) {
     });
   }
 
-  Reader rd(path);
+  Reader rd(path_);
   std::int64_t total = 0;
   for (int chunk = 0; chunk < 40; ++chunk) {
     std::vector<Sample> block;
     for (int k = 0; k < 2500; ++k, ++total) block.push_back({ch.id, total, static_cast<double>(total)});
     ASSERT_EQ(w.enqueue(block), block.size());
     // Lifecycle writes on the other connection interleave with the writer's batches.
-    db.add_event({0, run, total, "step", "chunk " + std::to_string(chunk), chunk, ""});
+    db_.add_event({0, run, total, "step", "chunk " + std::to_string(chunk), chunk, ""});
     StepRecord st;
     st.run_id = run;
     st.index = chunk;
     st.channels = {{ch.id, 1.0, 0.0, 2500}};
-    db.add_step(st);
+    db_.add_step(st);
     w.flush();
     ASSERT_EQ(rd.sample_count(ch.id), total);  // committed = visible, while the writer runs on
   }
@@ -81,7 +81,7 @@ TEST(DbConcurrency, ReadersSeeCommittedPrefixesWhileTheWriterWrites) {
   EXPECT_GT(views.load(), 0);
   EXPECT_EQ(w.stats().written, static_cast<std::uint64_t>(total));
   EXPECT_EQ(rd.steps(run).size(), 40u);
-  EXPECT_EQ(db.integrity_check(), "ok");
+  EXPECT_EQ(db_.integrity_check(), "ok");
 }
 
 class DbDecimation : public ::testing::Test {

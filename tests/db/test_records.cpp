@@ -15,6 +15,7 @@
 namespace {
 
 using namespace tocd::db;
+using tocd::db::testing::prediction_of;
 using tocd::db::testing::TestDatabase;
 
 NewRun sample_run() {
@@ -225,11 +226,7 @@ TEST(DbRecords, ReAddedStepReplacesTheOldOneAndLatestPredictionWins) {
   st.measured_transmission = 0.5;
   st.channels = {{load.id, 2.0, 0.2, 50}};
   db.add_step(st);
-  PredictionRecord p;
-  p.run_id = run.id;
-  p.step_index = 3;
-  p.config_json = "{}";
-  p.T = 0.45;
+  PredictionRecord p = prediction_of(run.id, 3, "{}", 0.45);
   db.add_prediction(p);
   p.T = 0.55;
   db.add_prediction(p);

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "raw_sqlite.hpp"
+#include "test_database.hpp"
 #include "tocd/core/clock.hpp"
 #include "tocd/core/version.hpp"
 #include "tocd/db/database.hpp"
@@ -23,6 +24,7 @@
 namespace {
 
 using namespace tocd::db;
+using tocd::db::testing::prediction_of;
 using tocd::db::testing::raw_rows;
 using tocd::test::TempDir;
 
@@ -61,12 +63,7 @@ class DbViews : public ::testing::Test {
     st.measured_transmission = 0.4;
     st.channels = {{disp_.id, 0.7, 0.1, 5}, {power_.id, 8e-4, 1e-5, 3}};
     db.add_step(st);
-    PredictionRecord p;
-    p.run_id = run_.id;
-    p.step_index = 0;
-    p.config_json = "{}";
-    p.T = 0.45;
-    p.T_stderr = 0.02;
+    PredictionRecord p = prediction_of(run_.id, 0, "{}", 0.45, 0.02);
     db.add_prediction(p);
     p.T = 0.55;  // a later prediction of the same step supersedes the first
     p.T_stderr = 0.01;

@@ -15,22 +15,21 @@
 namespace {
 
 using namespace tocd::db;
+using tocd::db::testing::OpenDatabaseTest;
 using tocd::db::testing::run_with_channel;
-using tocd::db::testing::TestDatabase;
 
-TEST(DbWriter, SamplesFromManyThreadsAreAllCommitted) {
-  TestDatabase dir;
-  const auto path = dir.location();
-  Database db(path);
-  const auto run = db.create_run({}).id;
+class DbWriter : public OpenDatabaseTest {};
+
+TEST_F(DbWriter, SamplesFromManyThreadsAreAllCommitted) {
+  const auto run = db_.create_run({}).id;
   constexpr int kThreads = 4, kPerThread = 20000;
   std::vector<Channel> ch;
   for (int i = 0; i < kThreads; ++i)
-    ch.push_back(db.add_channel({0, run, "ch" + std::to_string(i), "V", 0, kUnset}));
-  Writer w(db, {.batch_interval = std::chrono::milliseconds(20),
-                .batch_rows = 5000,
-                .queue_capacity = 1'000'000,
-                .on_failure = {}});
+    ch.push_back(db_.add_channel({0, run, "ch" + std::to_string(i), "V", 0, kUnset}));
+  Writer w(db_, {.batch_interval = std::chrono::milliseconds(20),
+                 .batch_rows = 5000,
+                 .queue_capacity = 1'000'000,
+                 .on_failure = {}});
   std::vector<std::thread> producers;
   for (int i = 0; i < kThreads; ++i) {
     producers.emplace_back([&, i] {
@@ -59,7 +58,7 @@ TEST(DbWriter, SamplesFromManyThreadsAreAllCommitted) {
   EXPECT_GT(s.batches, 0u);
   EXPECT_EQ(s.last_error, "");
 
-  Reader rd(path);
+  Reader rd(path_);
   for (int i = 0; i < kThreads; ++i) {
     const auto got = rd.samples(ch[i].id);
     ASSERT_EQ(got.size(), static_cast<std::size_t>(kPerThread));
@@ -71,17 +70,14 @@ TEST(DbWriter, SamplesFromManyThreadsAreAllCommitted) {
   EXPECT_EQ(rd.events(run).size(), 1u);
 }
 
-TEST(DbWriter, BatchIntervalCommitsWithoutFlush) {
-  TestDatabase dir;
-  const auto path = dir.location();
-  Database db(path);
-  const Channel ch = run_with_channel(db, "load", "N");
-  Writer w(db, {.batch_interval = std::chrono::milliseconds(10),
-                .batch_rows = 1'000'000,
-                .queue_capacity = 1'000'000,
-                .on_failure = {}});
+TEST_F(DbWriter, BatchIntervalCommitsWithoutFlush) {
+  const Channel ch = run_with_channel(db_, "load", "N");
+  Writer w(db_, {.batch_interval = std::chrono::milliseconds(10),
+                 .batch_rows = 1'000'000,
+                 .queue_capacity = 1'000'000,
+                 .on_failure = {}});
   w.enqueue(Sample{ch.id, 1, 1.0});
-  Reader rd(path);
+  Reader rd(path_);
   // Not a timing assertion: wait (up to 10 s) until the interval commit shows.
   for (int i = 0; i < 1000 && rd.sample_count(ch.id) == 0; ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
@@ -90,30 +86,26 @@ TEST(DbWriter, BatchIntervalCommitsWithoutFlush) {
   EXPECT_EQ(w.stats().batches, 1u);
 }
 
-TEST(DbWriter, NanValuesSurviveAsNan) {
-  TestDatabase dir;
-  Database db(dir.location());
-  const Channel ch = run_with_channel(db, "power", "W");
+TEST_F(DbWriter, NanValuesSurviveAsNan) {
+  const Channel ch = run_with_channel(db_, "power", "W");
   {
-    Writer w(db);
+    Writer w(db_);
     w.enqueue(Sample{ch.id, 1, std::nan("")});  // an over-range reading
     w.enqueue(Sample{ch.id, 2, -0.0});
   }  // the destructor flushes
-  const auto got = Reader(dir.location()).samples(ch.id);
+  const auto got = Reader(path_).samples(ch.id);
   ASSERT_EQ(got.size(), 2u);
   EXPECT_TRUE(std::isnan(got[0].value));
   EXPECT_EQ(got[1].value, 0.0);
 }
 
-TEST(DbWriter, FullQueueDropsAndCountsNeverBlocks) {
-  TestDatabase dir;
-  Database db(dir.location());
-  const Channel ch = run_with_channel(db, "load", "N");
+TEST_F(DbWriter, FullQueueDropsAndCountsNeverBlocks) {
+  const Channel ch = run_with_channel(db_, "load", "N");
   // A long interval and a huge batch size: nothing leaves the queue before the flush.
-  Writer w(db, {.batch_interval = std::chrono::milliseconds(60'000),
-                .batch_rows = 1'000'000,
-                .queue_capacity = 100,
-                .on_failure = {}});
+  Writer w(db_, {.batch_interval = std::chrono::milliseconds(60'000),
+                 .batch_rows = 1'000'000,
+                 .queue_capacity = 100,
+                 .on_failure = {}});
   std::vector<Sample> block(150, Sample{ch.id, 0, 1.0});
   EXPECT_EQ(w.enqueue(block), 100u);
   EXPECT_FALSE(w.enqueue(Sample{ch.id, 1, 1.0}));
@@ -131,11 +123,9 @@ TEST(DbWriter, FullQueueDropsAndCountsNeverBlocks) {
   EXPECT_EQ(w.stats().dropped, 52u);
 }
 
-TEST(DbWriter, UnknownChannelIsRejectedOthersKept) {
-  TestDatabase dir;
-  Database db(dir.location());
-  const Channel ch = run_with_channel(db, "load", "N");
-  Writer w(db);
+TEST_F(DbWriter, UnknownChannelIsRejectedOthersKept) {
+  const Channel ch = run_with_channel(db_, "load", "N");
+  Writer w(db_);
   w.enqueue(Sample{ch.id, 1, 1.0});
   w.enqueue(Sample{424242, 2, 2.0});
   w.enqueue(EventRecord{0, 999, 3, "fault", "no such run", -1, ""});
@@ -145,7 +135,7 @@ TEST(DbWriter, UnknownChannelIsRejectedOthersKept) {
   EXPECT_EQ(s.rejected, 2u);
   EXPECT_THAT(s.last_error, ::testing::HasSubstr("unknown"));
   // A channel added after the writer started is found.
-  const auto late = db.add_channel({0, ch.run_id, "late", "N", 0, kUnset});
+  const auto late = db_.add_channel({0, ch.run_id, "late", "N", 0, kUnset});
   w.enqueue(Sample{late.id, 4, 4.0});
   w.flush();
   EXPECT_EQ(w.stats().written, 2u);

@@ -19,11 +19,24 @@ using tocd::test::write_file;
 
 namespace {
 
-// Opens the database at `path` in `backend`; false when it did not open in time.
-[[nodiscard]] bool open_in(RunBrowserBackend& backend, const QString& path) {
+// What the backend answered when asked to open a database.
+struct OpenAnswer {
+  int opened = 0, failed = 0;  ///< database_opened and failed signals received
+  QVector<RunListing> runs;    ///< as database_opened listed them
+  QString failure;             ///< the failed signal's message
+};
+
+// Opens the database at `path` in `backend` and waits up to 10 s for its answer.
+[[nodiscard]] OpenAnswer open_in(RunBrowserBackend& backend, const QString& path) {
   QSignalSpy opened(&backend, &RunBrowserBackend::database_opened);
+  QSignalSpy failed(&backend, &RunBrowserBackend::failed);
   backend.open_database(path);
-  return opened.wait(10000);
+  if (!QTest::qWaitFor([&] { return !opened.isEmpty() || !failed.isEmpty(); }, 10000))
+    return {};  // no answer
+  OpenAnswer a{static_cast<int>(opened.count()), static_cast<int>(failed.count()), {}, {}};
+  if (!opened.isEmpty()) a.runs = opened.at(0).at(1).value<QVector<RunListing>>();
+  if (!failed.isEmpty()) a.failure = failed.at(0).at(1).toString();
+  return a;
 }
 
 }  // namespace
@@ -105,12 +118,10 @@ void RunBrowserTest::initTestCase() {
 
 void RunBrowserTest::lists_and_loads_a_run() {
   RunBrowserBackend backend;
-  QSignalSpy opened(&backend, &RunBrowserBackend::database_opened);
-  QSignalSpy failed(&backend, &RunBrowserBackend::failed);
-  backend.open_database(db_path_);
-  QVERIFY(opened.wait(10000));
-  QCOMPARE(failed.count(), 0);
-  const auto runs = opened.at(0).at(1).value<QVector<RunListing>>();
+  const OpenAnswer answer = open_in(backend, db_path_);
+  QCOMPARE(answer.opened, 1);
+  QCOMPARE(answer.failed, 0);
+  const auto& runs = answer.runs;
   QCOMPARE(runs.size(), 1);
   QCOMPARE(runs[0].id, run_id_);
   QCOMPARE(runs[0].status, QStringLiteral("completed"));
@@ -150,7 +161,7 @@ void RunBrowserTest::lists_and_loads_a_run() {
 
 void RunBrowserTest::exports_csv() {
   RunBrowserBackend backend;
-  QVERIFY(open_in(backend, db_path_));
+  QVERIFY(open_in(backend, db_path_).opened);
   QSignalSpy exported(&backend, &RunBrowserBackend::exported);
   const QString csv = dir_.filePath(QStringLiteral("run.csv"));
   backend.export_csv(run_id_, csv);
@@ -173,13 +184,11 @@ void RunBrowserTest::refuses_corrupt_and_foreign_files() {
   const QString missing = dir_.filePath(QStringLiteral("missing.tocdlab"));
   for (const QString& path : {junk, missing}) {
     RunBrowserBackend backend;
-    QSignalSpy failed(&backend, &RunBrowserBackend::failed);
-    QSignalSpy opened(&backend, &RunBrowserBackend::database_opened);
-    backend.open_database(path);
-    QVERIFY(failed.wait(10000));
-    QCOMPARE(opened.count(), 0);
+    const OpenAnswer answer = open_in(backend, path);
+    QCOMPARE(answer.failed, 1);
+    QCOMPARE(answer.opened, 0);
     QVERIFY(!backend.is_open());
-    QVERIFY(!failed.at(0).at(1).toString().isEmpty());
+    QVERIFY(!answer.failure.isEmpty());
   }
   // The refused file is left as it was.
   QCOMPARE(read_file(junk.toStdString()), junk_bytes);
@@ -194,7 +203,7 @@ void RunBrowserTest::fits_the_law_of_a_run_on_its_own_worker() {
   const QString fit = dir_.filePath(QStringLiteral("fit.json"));
   QVERIFY(write_file(fit.toStdString(), analysis::testing::scaled_fit_json(1.0, {1.0})));
   RunBrowserBackend backend;
-  QVERIFY(open_in(backend, path));
+  QVERIFY(open_in(backend, path).opened);
   QSignalSpy fitted(&backend, &RunBrowserBackend::law_fitted);
   QSignalSpy progress(&backend, &RunBrowserBackend::fit_progress);
   QSignalSpy failed(&backend, &RunBrowserBackend::failed);
@@ -228,7 +237,7 @@ void RunBrowserTest::fits_the_law_of_a_run_on_its_own_worker() {
 
 void RunBrowserTest::expect_fit_failure(const QString& material, const QString& named, int wait_ms) {
   RunBrowserBackend backend;
-  QVERIFY(open_in(backend, db_path_));
+  QVERIFY(open_in(backend, db_path_).opened);
   QSignalSpy failed(&backend, &RunBrowserBackend::failed);
   QSignalSpy fitted(&backend, &RunBrowserBackend::law_fitted);
   backend.fit_law(run_id_, material);
@@ -292,7 +301,7 @@ void RunBrowserTest::computes_a_water_time_course_on_the_long_job_worker() {
     }
   }
   RunBrowserBackend backend;
-  QVERIFY(open_in(backend, path));
+  QVERIFY(open_in(backend, path).opened);
   QSignalSpy ready(&backend, &RunBrowserBackend::water_course_ready);
   QSignalSpy progress(&backend, &RunBrowserBackend::water_progress);
   QSignalSpy failed(&backend, &RunBrowserBackend::failed);
@@ -324,7 +333,7 @@ void RunBrowserTest::computes_a_water_time_course_on_the_long_job_worker() {
 // A run without a pin record: failed() names the run and what is missing; the worker is free.
 void RunBrowserTest::a_water_course_that_cannot_be_made_is_reported() {
   RunBrowserBackend backend;
-  QVERIFY(open_in(backend, db_path_));
+  QVERIFY(open_in(backend, db_path_).opened);
   QSignalSpy failed(&backend, &RunBrowserBackend::failed);
   backend.water_course(run_id_, 1000);
   QVERIFY(failed.wait(20000));

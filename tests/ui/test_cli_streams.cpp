@@ -34,6 +34,15 @@ n = 1.4
 class CliStreams : public ::testing::Test {
  protected:
   void SetUp() override { std::ofstream(dir_ / "optics.toml") << kOptics; }
+  /// `tocdlab <args>` is refused: exit `status`, nothing on stdout, stderr opening with `prefix`.
+  tocd::test::CliResult expect_refused(const std::string& args, int status, const std::string& prefix) {
+    SCOPED_TRACE(args);
+    auto r = run_cli(TOCDLAB_EXE, args, dir_);
+    EXPECT_EQ(r.status, status) << r.err;
+    EXPECT_EQ(r.out, "");
+    EXPECT_EQ(r.err.rfind(prefix, 0), 0u) << r.err;
+    return r;
+  }
   tocd::test::TempDir dir_{"cli_streams"};
 };
 
@@ -105,10 +114,7 @@ TEST_F(CliStreams, QuietSilencesTheBar) {
 }
 
 TEST_F(CliStreams, UnknownOptionIsAUsageErrorNamingIt) {
-  const auto r = run_cli(TOCDLAB_EXE, "mc --bogus", dir_);
-  EXPECT_EQ(r.status, 2) << r.err;
-  EXPECT_EQ(r.out, "");
-  EXPECT_EQ(r.err.rfind("tocdlab: ", 0), 0u) << r.err;
+  const auto r = expect_refused("mc --bogus", 2, "tocdlab: ");
   EXPECT_NE(r.err.find("--bogus"), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("--optics"), std::string::npos) << r.err;
 }
@@ -116,18 +122,13 @@ TEST_F(CliStreams, UnknownOptionIsAUsageErrorNamingIt) {
 TEST_F(CliStreams, UsageErrorsExitTwo) {
   for (const char* args : {"no-such-command", "study paper --photons -5", "mc --slab 1x1x1",
                            "--log-level loud", "predict --photons 1e3x"}) {
-    const auto r = run_cli(TOCDLAB_EXE, args, dir_);
-    EXPECT_EQ(r.status, 2) << args << "\n" << r.err;
-    EXPECT_EQ(r.out, "") << args;
-    EXPECT_EQ(r.err.rfind("tocdlab: ", 0), 0u) << args << "\n" << r.err;
+    expect_refused(args, 2, "tocdlab: ");
   }
 }
 
 TEST_F(CliStreams, BadInputExitsOneNamingIt) {
-  const auto missing = run_cli(TOCDLAB_EXE, "mc --slab 10x10x1 --optics no-such-optics.toml", dir_);
-  EXPECT_EQ(missing.status, 1) << missing.err;
-  EXPECT_EQ(missing.out, "");
-  EXPECT_EQ(missing.err.rfind("tocdlab: error: ", 0), 0u) << missing.err;
+  const auto missing =
+      expect_refused("mc --slab 10x10x1 --optics no-such-optics.toml", 1, "tocdlab: error: ");
   EXPECT_NE(missing.err.find("no-such-optics.toml"), std::string::npos) << missing.err;
 
   const auto fit = run_cli(TOCDLAB_EXE, "fit --data no-such.csv", dir_);

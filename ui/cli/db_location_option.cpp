@@ -1,8 +1,10 @@
 #include "db_location_option.hpp"
 
 #include <filesystem>
+#include <limits>
 #include <string>
 
+#include "numeric_options.hpp"
 #include "output_paths.hpp"
 #include "tocd/db/location.hpp"
 
@@ -23,6 +25,17 @@ CLI::Validator database_input() {
         return std::string();
       },
       "FILE|URI");
+}
+
+CLI::Option* add_runs_database(CLI::App* cmd, std::string& db) {
+  return cmd->add_option("--db", db, "measurement database file, or a PostgreSQL server (postgresql://...)")
+      ->required();
+}
+
+CLI::Option* add_run_id(CLI::App* cmd, std::int64_t& run) {
+  return cmd->add_option("--run", run, "run id (see tocdlab runs)")
+      ->check(whole_in(std::int64_t{1}, std::numeric_limits<std::int64_t>::max()))
+      ->required();
 }
 
 }  // namespace tocd::cli

@@ -27,6 +27,14 @@ CLI::Validator real_in(double lo, double hi);
 /// factors where zero is meaningless.
 CLI::Validator real_above(double lo, double hi);
 
+/// An option whose value must pass `range` (whole_in, real_in, real_above) and whose default
+/// the help shows.
+template <class T>
+CLI::Option* add_ranged_option(CLI::App* cmd, const std::string& name, T& value, const std::string& help,
+                               const CLI::Validator& range) {
+  return cmd->add_option(name, value, help)->check(range)->capture_default_str();
+}
+
 /// The options every Monte Carlo command shares, with their ranges checked and their defaults
 /// shown: a photon count (1 to kMaxPhotons; `name` is --photons or a more specific one), the
 /// random seed (any 64-bit number) and the threads (0 = all cores, up to kMaxThreads).

@@ -29,7 +29,8 @@ std::vector<QPointF> measured_over(const db::Reader& reader, std::int64_t run_id
 WaterStepView water_step_view(const analysis::WaterCourseStep& s, std::vector<QPointF> measured) {
   std::vector<WaterPointView> points;
   for (const auto& p : s.points)
-    points.push_back({p.t_s, p.measured.T, p.computed, p.T, p.T_se, QString::fromStdString(p.failure)});
+    points.push_back({p.t_s, p.measured.T, p.predicted.computed, p.T, p.T_se,
+                      QString::fromStdString(p.predicted.failure)});
   return {.step = s.index,
           .displacement_mm = s.target_displacement_mm,
           .window_from_s = s.window_from_s,

@@ -3,6 +3,7 @@
 #include <QFont>
 #include <QGridLayout>
 #include <QLabel>
+#include <array>
 
 #include "status_lamp.hpp"
 
@@ -34,26 +35,29 @@ InstrumentPanel::InstrumentPanel(const QString& name, QWidget* parent)
   fault_lamp_->set_colour(lamp::off());
 }
 
+namespace {
+
+/// How the panel shows one connection state: the lamp's colour and the label's text.
+struct ConnectionLook {
+  QColor (*colour)();
+  const char* text;  ///< translated in InstrumentPanel's context
+};
+
+// In InstrumentPanel::Connection order.
+const std::array<ConnectionLook, 4> kConnectionLooks{{
+    {lamp::off, QT_TRANSLATE_NOOP("tocd::gui::InstrumentPanel", "not configured")},
+    {lamp::busy, QT_TRANSLATE_NOOP("tocd::gui::InstrumentPanel", "connecting…")},
+    {lamp::ok, QT_TRANSLATE_NOOP("tocd::gui::InstrumentPanel", "connected")},
+    {lamp::bad, QT_TRANSLATE_NOOP("tocd::gui::InstrumentPanel", "connection lost")},
+}};
+
+}  // namespace
+
 void InstrumentPanel::set_connection(Connection state, const QString& detail) {
   connection_ = state;
-  switch (state) {
-    case Connection::absent:
-      connection_lamp_->set_colour(lamp::off());
-      connection_label_->setText(tr("not configured"));
-      break;
-    case Connection::connecting:
-      connection_lamp_->set_colour(lamp::busy());
-      connection_label_->setText(tr("connecting…"));
-      break;
-    case Connection::connected:
-      connection_lamp_->set_colour(lamp::ok());
-      connection_label_->setText(tr("connected"));
-      break;
-    case Connection::lost:
-      connection_lamp_->set_colour(lamp::bad());
-      connection_label_->setText(tr("connection lost"));
-      break;
-  }
+  const ConnectionLook& look = kConnectionLooks[static_cast<std::size_t>(state)];
+  connection_lamp_->set_colour(look.colour());
+  connection_label_->setText(tr(look.text));
   if (!detail.isEmpty())
     connection_label_->setText(connection_label_->text() + QStringLiteral(": ") + detail);
   connection_lamp_->setToolTip(connection_label_->text());

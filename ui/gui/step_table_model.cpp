@@ -3,6 +3,7 @@
 #include <QBrush>
 #include <QColor>
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace tocd::gui {
@@ -22,55 +23,55 @@ int StepTableModel::columnCount(const QModelIndex& parent) const {
   return parent.isValid() ? 0 : kColumnCount;
 }
 
+namespace {
+
+/// One column of the table: its header and the row's number in it (empty when missing).
+struct ColumnSpec {
+  const char* header;  ///< translated in StepTableModel's context
+  std::optional<double> (*value)(const StepRow&);
+};
+
+// In StepTableModel::Column order.
+const std::array<ColumnSpec, StepTableModel::kColumnCount> kColumns{{
+    {QT_TRANSLATE_NOOP("tocd::gui::StepTableModel", "Step"),
+     [](const StepRow& r) -> std::optional<double> { return r.step; }},
+    {QT_TRANSLATE_NOOP("tocd::gui::StepTableModel", "Displacement (mm)"),
+     [](const StepRow& r) -> std::optional<double> { return r.displacement_mm; }},
+    {QT_TRANSLATE_NOOP("tocd::gui::StepTableModel", "Nominal strain"),
+     [](const StepRow& r) -> std::optional<double> { return r.nominal_strain; }},
+    {QT_TRANSLATE_NOOP("tocd::gui::StepTableModel", "Load (N)"),
+     [](const StepRow& r) -> std::optional<double> { return r.load_N; }},
+    {QT_TRANSLATE_NOOP("tocd::gui::StepTableModel", "Measured T"),
+     [](const StepRow& r) -> std::optional<double> { return r.measured_T; }},
+    {QT_TRANSLATE_NOOP("tocd::gui::StepTableModel", "Predicted T"),
+     [](const StepRow& r) { return r.predicted_T; }},
+    {QT_TRANSLATE_NOOP("tocd::gui::StepTableModel", "± error"),
+     [](const StepRow& r) { return r.predicted_T_stderr; }},
+    {QT_TRANSLATE_NOOP("tocd::gui::StepTableModel", "Difference"),
+     [](const StepRow& r) { return r.relative_difference(); }},
+}};
+
+bool is_column(int c) {
+  return c >= 0 && c < StepTableModel::kColumnCount;
+}
+
+/// The row's number in `column` (empty when missing or no such column).
+std::optional<double> column_value(const StepRow& r, int column) {
+  if (!is_column(column)) return std::nullopt;
+  return kColumns[static_cast<std::size_t>(column)].value(r);
+}
+
+}  // namespace
+
 QVariant StepTableModel::headerData(int section, Qt::Orientation orientation, int role) const {
-  if (role != Qt::DisplayRole || orientation != Qt::Horizontal) return {};
-  switch (section) {
-    case kStep:
-      return tr("Step");
-    case kDisplacement:
-      return tr("Displacement (mm)");
-    case kStrain:
-      return tr("Nominal strain");
-    case kLoad:
-      return tr("Load (N)");
-    case kMeasuredT:
-      return tr("Measured T");
-    case kPredictedT:
-      return tr("Predicted T");
-    case kPredictedErr:
-      return tr("± error");
-    case kDifference:
-      return tr("Difference");
-    default:
-      return {};
-  }
+  if (role != Qt::DisplayRole || orientation != Qt::Horizontal || !is_column(section)) return {};
+  return tr(kColumns[static_cast<std::size_t>(section)].header);
 }
 
 QVariant StepTableModel::data(const QModelIndex& index, int role) const {
   if (!index.isValid() || index.row() >= rowCount()) return {};
   const StepRow& r = rows_[static_cast<std::size_t>(index.row())];
-  const auto raw = [&]() -> std::optional<double> {
-    switch (index.column()) {
-      case kStep:
-        return r.step;
-      case kDisplacement:
-        return r.displacement_mm;
-      case kStrain:
-        return r.nominal_strain;
-      case kLoad:
-        return r.load_N;
-      case kMeasuredT:
-        return r.measured_T;
-      case kPredictedT:
-        return r.predicted_T;
-      case kPredictedErr:
-        return r.predicted_T_stderr;
-      case kDifference:
-        return r.relative_difference();
-      default:
-        return std::nullopt;
-    }
-  }();
+  const std::optional<double> raw = column_value(r, index.column());
   if (role == Qt::UserRole) return raw ? QVariant(*raw) : QVariant();
   if (role == Qt::TextAlignmentRole) return QVariant(Qt::AlignRight | Qt::AlignVCenter);
   if (role == Qt::ForegroundRole && !raw) return QBrush(QColor(140, 140, 140));

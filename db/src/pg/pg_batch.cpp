@@ -1,7 +1,6 @@
 #include "pg_batch.hpp"
 
-#include <fmt/format.h>
-
+#include "batch_rows.hpp"
 #include "pg_schema.hpp"
 
 namespace tocd::db::pg {
@@ -42,41 +41,33 @@ void BatchWriter::write(std::span<const Sample> samples, std::span<const EventRe
   segment_.clear();
   Transaction t(c_);
   copy_.clear();
-  std::int64_t last_bad = 0;
-  for (const auto& s : samples) {
-    const std::int64_t run = run_of(s.channel_id);
-    if (run == 0) {
-      ++rejected;
-      last_bad = s.channel_id;
-      continue;
-    }
-    append_copy_value(copy_, run);
-    copy_ += '\t';
-    append_copy_value(copy_, s.channel_id);
-    copy_ += '\t';
-    append_copy_value(copy_, s.t_ns);
-    copy_ += '\t';
-    append_copy_value(copy_, s.value);
-    copy_ += '\t';
-    append_copy_value(copy_, segment_of(run));
-    copy_ += '\n';
-    ++written;
-  }
-  if (last_bad != 0) error = fmt::format("samples for unknown channel id {} were rejected", last_bad);
+  detail::write_known_samples(
+      samples, [&](std::int64_t channel_id) { return run_of(channel_id); },
+      [&](std::int64_t run, const Sample& s) {
+        append_copy_value(copy_, run);
+        copy_ += '\t';
+        append_copy_value(copy_, s.channel_id);
+        copy_ += '\t';
+        append_copy_value(copy_, s.t_ns);
+        copy_ += '\t';
+        append_copy_value(copy_, s.value);
+        copy_ += '\t';
+        append_copy_value(copy_, segment_of(run));
+        copy_ += '\n';
+      },
+      written, rejected, error);
   if (!copy_.empty()) c_.copy_in("COPY samples(run_id, channel_id, t_ns, value, segment) FROM STDIN", copy_);
-  for (const auto& e : events) {
-    if (!has_run(e.run_id)) {
-      ++rejected;
-      error = fmt::format("an event for unknown run id {} was rejected", e.run_id);
-      continue;
-    }
-    c_.query(
-        "INSERT INTO events(run_id, t_ns, kind, message, step_index, data_json, segment) "
-        "VALUES($1,$2,$3,$4,$5,$6,$7)",
-        {e.run_id, e.t_ns, e.kind, e.message, e.step_index >= 0 ? Param(e.step_index) : Param(std::nullopt),
-         e.data_json.empty() ? Param(std::nullopt) : Param(e.data_json), segment_of(e.run_id)});
-    ++written;
-  }
+  detail::write_known_events(
+      events, [&](std::int64_t run_id) { return has_run(run_id); },
+      [&](const EventRecord& e) {
+        c_.query(
+            "INSERT INTO events(run_id, t_ns, kind, message, step_index, data_json, segment) "
+            "VALUES($1,$2,$3,$4,$5,$6,$7)",
+            {e.run_id, e.t_ns, e.kind, e.message,
+             e.step_index >= 0 ? Param(e.step_index) : Param(std::nullopt),
+             e.data_json.empty() ? Param(std::nullopt) : Param(e.data_json), segment_of(e.run_id)});
+      },
+      written, rejected, error);
   t.commit();
 }
 

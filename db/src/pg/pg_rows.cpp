@@ -18,6 +18,7 @@ using detail::event_from_row;
 using detail::index_by_id;
 using detail::instrument_from_row;
 using detail::prediction_from_row;
+using detail::read_run_rows;
 using detail::run_from_row;
 using detail::specimen_from_row;
 using detail::step_from_row;
@@ -52,18 +53,15 @@ std::vector<RunRecord> all_runs(const Connection& c) {
 }
 
 std::vector<RunAnchor> run_anchors(const Connection& c, std::int64_t run_id) {
-  return read_rows(c, std::string(detail::kAnchorSelect) + " WHERE run_id = $1 ORDER BY segment", run_id,
-                   [&](const Row& row) { return anchor_from_row(row, run_id); });
+  return read_run_rows(c, detail::kAnchorSelect, "segment", run_id, anchor_from_row<Row>);
 }
 
 std::vector<Channel> run_channels(const Connection& c, std::int64_t run_id) {
-  return read_rows(c, std::string(detail::kChannelSelect) + " WHERE run_id = $1 ORDER BY id", run_id,
-                   [&](const Row& row) { return channel_from_row(row, run_id); });
+  return read_run_rows(c, detail::kChannelSelect, "id", run_id, channel_from_row<Row>);
 }
 
 std::vector<StepRecord> run_steps(const Connection& c, std::int64_t run_id) {
-  auto out = read_rows(c, std::string(detail::kStepSelect) + " WHERE run_id = $1 ORDER BY step_index", run_id,
-                       [&](const Row& row) { return step_from_row(row, run_id); });
+  auto out = read_run_rows(c, detail::kStepSelect, "step_index", run_id, step_from_row<Row>);
   const auto by_id = index_by_id(out);
   const Result x =
       c.query(std::string(detail::kStepStatsSelect) + " WHERE s.run_id = $1 ORDER BY x.step_id, x.channel_id",
@@ -73,13 +71,11 @@ std::vector<StepRecord> run_steps(const Connection& c, std::int64_t run_id) {
 }
 
 std::vector<EventRecord> run_events(const Connection& c, std::int64_t run_id) {
-  return read_rows(c, std::string(detail::kEventSelect) + " WHERE run_id = $1 ORDER BY t_ns, id", run_id,
-                   [&](const Row& row) { return event_from_row(row, run_id); });
+  return read_run_rows(c, detail::kEventSelect, "t_ns, id", run_id, event_from_row<Row>);
 }
 
 std::vector<PredictionRecord> run_predictions(const Connection& c, std::int64_t run_id) {
-  return read_rows(c, std::string(detail::kPredictionSelect) + " WHERE run_id = $1 ORDER BY step_index, id",
-                   run_id, [&](const Row& row) { return prediction_from_row(row, run_id); });
+  return read_run_rows(c, detail::kPredictionSelect, "step_index, id", run_id, prediction_from_row<Row>);
 }
 
 std::vector<InstrumentRecord> instruments(const Connection& c) {

@@ -112,6 +112,11 @@ class Connection {
   std::string name_;
 };
 
+/// How a query names its first parameter (read_run_rows writes its WHERE clause with it).
+inline std::string run_id_parameter(const Connection&) {
+  return "$1";
+}
+
 /// Every row of `sql`, its parameter $1 set to `key`, as `read(const Row&)` makes it.
 template <class Read>
 auto read_rows(const Connection& c, const std::string& sql, std::int64_t key, Read read) {

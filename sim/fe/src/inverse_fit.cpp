@@ -474,13 +474,17 @@ nlohmann::json to_json(const InverseFitResult& r) {
   j["evaluations"] = r.evaluations;
   j["converged"] = r.converged;
   j["stop_reason"] = r.stop_reason;
-  j["stability"] = {{"stable", r.stability.stable},
-                    {"lambda_min", r.stability.lambda_min},
-                    {"lambda_max", r.stability.lambda_max},
-                    {"first_failure", r.stability.first_failure},
-                    {"stable_lambda_min", r.stable_lambda_min},
-                    {"stable_lambda_max", r.stable_lambda_max}};
+  j["stability"] = to_json(r.stability);
+  j["stability"]["stable_lambda_min"] = r.stable_lambda_min;
+  j["stability"]["stable_lambda_max"] = r.stable_lambda_max;
   return j;
+}
+
+nlohmann::json to_json(const tocd::sim::material::StabilityReport& s) {
+  return {{"stable", s.stable},
+          {"lambda_min", s.lambda_min},
+          {"lambda_max", s.lambda_max},
+          {"first_failure", s.first_failure}};
 }
 
 }  // namespace tocd::sim::fe

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "tocd/sim/geometry/composite.hpp"
+#include "tocd/sim/geometry/douglas_peucker.hpp"
 
 namespace tocd::sim::geometry::detail {
 
@@ -159,30 +160,11 @@ Vec2 interior_point(const std::vector<Vec2>& p) {
 
 std::vector<Vec2> simplify(const std::vector<Vec2>& line, double tol) {
   if (line.size() <= 2) return line;
-  std::vector<char> keep(line.size(), 0);
-  keep.front() = keep.back() = 1;
-  std::vector<std::pair<std::size_t, std::size_t>> stack{{0, line.size() - 1}};
-  while (!stack.empty()) {
-    const auto [i, j] = stack.back();
-    stack.pop_back();
-    double worst = -1;
-    std::size_t k_worst = i;
-    for (std::size_t k = i + 1; k < j; ++k) {
-      const double d = segment_distance(line[k], line[i], line[j]);
-      if (d > worst) {
-        worst = d;
-        k_worst = k;
-      }
-    }
-    if (worst > tol) {
-      keep[k_worst] = 1;
-      stack.emplace_back(i, k_worst);
-      stack.emplace_back(k_worst, j);
-    }
-  }
+  const auto kept = douglas_peucker(line.size(), tol, [&](std::size_t k, std::size_t i, std::size_t j) {
+    return segment_distance(line[k], line[i], line[j]);
+  });
   std::vector<Vec2> out;
-  for (std::size_t k = 0; k < line.size(); ++k)
-    if (keep[k]) out.push_back(line[k]);
+  for (const std::size_t k : kept) out.push_back(line[k]);
   return out;
 }
 

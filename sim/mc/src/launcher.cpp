@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 #include <fmt/format.h>
+
+#include "tocd/sim/mesh/cell_buckets.hpp"
 
 namespace tocd::sim::mc {
 namespace {
@@ -64,32 +67,22 @@ BoundaryLocator::BoundaryLocator(const PreparedMesh& mesh, const V3& unit_dir) :
   nu_ = nv_ = n;
   hu_ = std::max(umax - umin_, 1e-300) / nu_;
   hv_ = std::max(vmax - vmin_, 1e-300) / nv_;
-  start_.assign(static_cast<std::size_t>(nu_) * nv_ + 1, 0);
   auto cells = [&](const Face& f, int& i0, int& i1, int& j0, int& j1) {
     i0 = std::clamp(static_cast<int>((*std::min_element(f.u, f.u + 3) - umin_) / hu_), 0, nu_ - 1);
     i1 = std::clamp(static_cast<int>((*std::max_element(f.u, f.u + 3) - umin_) / hu_), 0, nu_ - 1);
     j0 = std::clamp(static_cast<int>((*std::min_element(f.v, f.v + 3) - vmin_) / hv_), 0, nv_ - 1);
     j1 = std::clamp(static_cast<int>((*std::max_element(f.v, f.v + 3) - vmin_) / hv_), 0, nv_ - 1);
   };
-  for (int pass = 0; pass < 2; ++pass) {
-    std::vector<std::size_t> fill(start_.begin(), start_.end() - 1);
-    for (std::size_t k = 0; k < faces_.size(); ++k) {
-      int i0, i1, j0, j1;
-      cells(faces_[k], i0, i1, j0, j1);
-      for (int j = j0; j <= j1; ++j)
-        for (int i = i0; i <= i1; ++i) {
-          const std::size_t c = static_cast<std::size_t>(j) * nu_ + i;
-          if (pass == 0)
-            ++start_[c + 1];
-          else
-            items_[fill[c]++] = static_cast<std::int32_t>(k);
-        }
-    }
-    if (pass == 0) {
-      for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
-      items_.resize(start_.back());
-    }
-  }
+  auto buckets = mesh::bucket_by_cell(faces_.size(), static_cast<std::size_t>(nu_) * nv_,
+                                      [&](std::size_t k, const auto& add) {
+                                        int i0, i1, j0, j1;
+                                        cells(faces_[k], i0, i1, j0, j1);
+                                        for (int j = j0; j <= j1; ++j)
+                                          for (int i = i0; i <= i1; ++i)
+                                            add(static_cast<std::size_t>(j) * nu_ + i);
+                                      });
+  start_ = std::move(buckets.start);
+  items_ = std::move(buckets.items);
 }
 
 Entry BoundaryLocator::locate(const V3& o) const {

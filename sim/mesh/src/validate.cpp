@@ -1,9 +1,11 @@
 // Mesh validation: the checks a transport code needs before it trusts face adjacency.
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include <fmt/format.h>
 
+#include "tocd/sim/mesh/cell_buckets.hpp"
 #include "tocd/sim/mesh/mesh_error.hpp"
 #include "tocd/sim/mesh/topology.hpp"
 
@@ -60,27 +62,16 @@ class TetGrid {
       n_[k] = static_cast<int>(std::clamp(cells, 1.0, 256.0));
       h_[k] = std::max(box_.max[k] - box_.min[k], 1e-300) / n_[k];
     }
-    start_.assign(static_cast<std::size_t>(n_[0]) * n_[1] * n_[2] + 1, 0);
-    for (int pass = 0; pass < 2; ++pass) {
-      std::vector<std::size_t> fill(start_.begin(), start_.end() - 1);
-      for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-        std::array<int, 3> lo{}, hi{};
-        tet_cells(t, lo, hi);
-        for (int i = lo[0]; i <= hi[0]; ++i)
-          for (int j = lo[1]; j <= hi[1]; ++j)
-            for (int k = lo[2]; k <= hi[2]; ++k) {
-              const std::size_t c = index(i, j, k);
-              if (pass == 0)
-                ++start_[c + 1];
-              else
-                items_[fill[c]++] = static_cast<std::int32_t>(t);
-            }
-      }
-      if (pass == 0) {
-        for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
-        items_.resize(start_.back());
-      }
-    }
+    auto buckets = bucket_by_cell(mesh.tets.size(), static_cast<std::size_t>(n_[0]) * n_[1] * n_[2],
+                                  [&](std::size_t t, const auto& add) {
+                                    std::array<int, 3> lo{}, hi{};
+                                    tet_cells(t, lo, hi);
+                                    for (int i = lo[0]; i <= hi[0]; ++i)
+                                      for (int j = lo[1]; j <= hi[1]; ++j)
+                                        for (int k = lo[2]; k <= hi[2]; ++k) add(index(i, j, k));
+                                  });
+    start_ = std::move(buckets.start);
+    items_ = std::move(buckets.items);
   }
 
   // Tet (other than `skip`) that holds p strictly inside (by margin), or -1.

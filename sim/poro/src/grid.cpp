@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 namespace tocd::sim::poro {
 
@@ -31,6 +32,20 @@ void quadratic(double s, double N[3], double dN[3]) {
   dN[0] = s - 0.5;
   dN[1] = -2 * s;
   dN[2] = s + 0.5;
+}
+
+// The tensor product of two 1D Lagrange bases of K nodes each (node li along xi and lj along
+// eta is node K lj + li) and its derivatives in xi and eta: the Q9 and the Q4 of shape_at.
+template <std::size_t K>
+void tensor_product(const double (&Nx)[K], const double (&dNx)[K], const double (&Ny)[K],
+                    const double (&dNy)[K], double (&N)[K * K], double (&dN)[K * K][2]) {
+  for (std::size_t lj = 0; lj < K; ++lj)
+    for (std::size_t li = 0; li < K; ++li) {
+      const std::size_t a = K * lj + li;
+      N[a] = Nx[li] * Ny[lj];
+      dN[a][0] = dNx[li] * Ny[lj];
+      dN[a][1] = Nx[li] * dNy[lj];
+    }
 }
 
 }  // namespace
@@ -87,22 +102,10 @@ Shape shape_at(double xi, double eta) {
   double Nx[3], dNx[3], Ny[3], dNy[3];
   quadratic(xi, Nx, dNx);
   quadratic(eta, Ny, dNy);
-  for (int lj = 0; lj < 3; ++lj)
-    for (int li = 0; li < 3; ++li) {
-      const int a = 3 * lj + li;
-      s.N9[a] = Nx[li] * Ny[lj];
-      s.dN9[a][0] = dNx[li] * Ny[lj];
-      s.dN9[a][1] = Nx[li] * dNy[lj];
-    }
+  tensor_product(Nx, dNx, Ny, dNy, s.N9, s.dN9);
   const double Lx[2] = {0.5 * (1 - xi), 0.5 * (1 + xi)}, Ly[2] = {0.5 * (1 - eta), 0.5 * (1 + eta)};
   const double dL[2] = {-0.5, 0.5};
-  for (int lj = 0; lj < 2; ++lj)
-    for (int li = 0; li < 2; ++li) {
-      const int c = 2 * lj + li;
-      s.N4[c] = Lx[li] * Ly[lj];
-      s.dN4[c][0] = dL[li] * Ly[lj];
-      s.dN4[c][1] = Lx[li] * dL[lj];
-    }
+  tensor_product(Lx, dL, Ly, dL, s.N4, s.dN4);
   return s;
 }
 

@@ -21,6 +21,24 @@ void require(bool ok, const std::string& what) {
   if (!ok) throw tocd::ConfigError("prediction request: " + what);
 }
 
+// The request's plain numbers that every config holds, each under its field's name: to_config
+// writes and request_from_config reads them from this one list.
+struct NumberField {
+  const char* key;
+  double PredictionRequest::*value;
+};
+constexpr NumberField kNumberFields[] = {
+    {"displacement_mm", &PredictionRequest::displacement_mm},
+    {"thickness_mm", &PredictionRequest::thickness_mm},
+    {"max_edge_mm", &PredictionRequest::max_edge_mm},
+    {"tip_edge_mm", &PredictionRequest::tip_edge_mm},
+    {"pin_length_mm", &PredictionRequest::pin_length_mm},
+    {"pin_radius_mm", &PredictionRequest::pin_radius_mm},
+    {"slide_size_mm", &PredictionRequest::slide_size_mm},
+    {"slide_thickness_mm", &PredictionRequest::slide_thickness_mm},
+    {"fe_refinement", &PredictionRequest::fe_refinement},
+};
+
 }  // namespace
 
 void validate(const PredictionRequest& r) {
@@ -77,8 +95,7 @@ nlohmann::json to_config(const PredictionRequest& r) {
   nlohmann::json j;
   j["kind"] = kKind;
   j["version"] = kVersion;
-  j["displacement_mm"] = r.displacement_mm;
-  j["thickness_mm"] = r.thickness_mm;
+  for (const auto& f : kNumberFields) j[f.key] = r.*f.value;
   j["material"] = material_to_json(r.material);
   j["optics_model"] = r.optics_model;
   j["photons"] = r.photons;
@@ -88,13 +105,6 @@ nlohmann::json to_config(const PredictionRequest& r) {
   j["compressed_optics"] = to_json(r.compressed_optics);
   j["graded"] = to_json(r.graded);
   j["batches"] = r.batches;
-  j["max_edge_mm"] = r.max_edge_mm;
-  j["tip_edge_mm"] = r.tip_edge_mm;
-  j["pin_length_mm"] = r.pin_length_mm;
-  j["pin_radius_mm"] = r.pin_radius_mm;
-  j["slide_size_mm"] = r.slide_size_mm;
-  j["slide_thickness_mm"] = r.slide_thickness_mm;
-  j["fe_refinement"] = r.fe_refinement;
   if (r.fe_kinematics != fe::Kinematics::axisymmetric) j["fe_kinematics"] = fe::to_string(r.fe_kinematics);
   if (r.fe_bottom != fe::Bottom::bonded) j["fe_bottom"] = fe::to_string(r.fe_bottom);
   if (r.compressed_log_strain != -0.5) j["compressed_log_strain"] = r.compressed_log_strain;
@@ -168,8 +178,7 @@ PredictionRequest request_from_config(const nlohmann::json& j) {
     auto num = [&](const char* key, double& v) {
       if (j.contains(key)) v = j.at(key).get<double>();
     };
-    num("displacement_mm", r.displacement_mm);
-    num("thickness_mm", r.thickness_mm);
+    for (const auto& f : kNumberFields) num(f.key, r.*f.value);
     if (j.contains("material")) r.material = material_from_json(j.at("material"));
     if (j.contains("optics_model")) r.optics_model = j.at("optics_model").get<std::string>();
     // Ranges as on the command line (docs/security.md).
@@ -185,13 +194,6 @@ PredictionRequest request_from_config(const nlohmann::json& j) {
     if (j.contains("batches"))
       r.batches =
           static_cast<int>(json_whole_number(j.at("batches"), "prediction config: batches", 2, 1'000'000));
-    num("max_edge_mm", r.max_edge_mm);
-    num("tip_edge_mm", r.tip_edge_mm);
-    num("pin_length_mm", r.pin_length_mm);
-    num("pin_radius_mm", r.pin_radius_mm);
-    num("slide_size_mm", r.slide_size_mm);
-    num("slide_thickness_mm", r.slide_thickness_mm);
-    num("fe_refinement", r.fe_refinement);
     if (j.contains("fe_kinematics"))
       r.fe_kinematics = fe::parse_kinematics(j.at("fe_kinematics").get<std::string>());
     if (j.contains("fe_bottom")) r.fe_bottom = fe::parse_bottom(j.at("fe_bottom").get<std::string>());

@@ -9,6 +9,7 @@
 #include "elapsed.hpp"
 #include "table_builder.hpp"
 #include "tocd/core/error.hpp"
+#include "tocd/sim/study/run_settings.hpp"
 
 namespace tocd::sim::study {
 namespace {
@@ -17,10 +18,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 PredictionRequest base_request(const StudySettings& s) {
   PredictionRequest r;
-  r.photons = s.photons;
-  r.seed = s.seed;
-  r.mesh_preset = s.mesh_preset;
-  r.threads = s.threads;
+  copy_run_settings(r, s);
   r.batches = s.batches;
   r.max_edge_mm = s.max_edge_mm;
   r.fluence_dir = s.fluence_dir;

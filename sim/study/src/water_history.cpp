@@ -87,7 +87,6 @@ std::vector<WaterHistoryPoint> predict_water_history(const WaterHistoryRequest& 
   const DisplacementHistory h = r.history;
   poro::PoroSolver solver(detail::water_pin_model(g, r.skeleton, r.drained_poisson, r.permeability,
                                                   [h](double t) { return h.at(t); }));
-  const detail::WaterMcSettings mc{r.optics, r.photons, r.seed, r.threads, r.mesh_preset};
 
   // Every FE step ends on a knot or a time point: the loads are piecewise linear between them.
   std::vector<double> ends = r.history.t_s;
@@ -142,7 +141,7 @@ std::vector<WaterHistoryPoint> predict_water_history(const WaterHistoryRequest& 
       mark_not_computed(p, failure);
     } else {
       try {
-        detail::record_transmission(p, solver, g, p.displacement_mm, mc);
+        detail::record_transmission(p, solver, g, p.displacement_mm, r);
         p.computed = true;
       } catch (const tocd::Error& e) {
         // A mesh of this state alone failed; the FE goes on, so later points may still come.

@@ -55,7 +55,6 @@ std::vector<WaterTimePoint> predict_water_time_course(const WaterTimeCourseReque
     for (int k = 1; k <= steps; ++k) solver.advance_to(from + (to - from) * k / steps);
     t = to;
   };
-  const detail::WaterMcSettings mc{r.optics, r.photons, r.seed, r.threads, r.mesh_preset};
   for (double hold : r.times_s) {
     WaterTimePoint p;
     p.time_s = hold;
@@ -63,7 +62,7 @@ std::vector<WaterTimePoint> predict_water_time_course(const WaterTimeCourseReque
     if (t < r.ramp_s) advance(r.ramp_s, 10 * r.steps_per_interval);
     if (r.ramp_s + hold > t) advance(r.ramp_s + hold, r.steps_per_interval);
     p.fe_seconds = seconds_since(t0);
-    detail::record_transmission(p, solver, g, r.displacement_mm, mc);
+    detail::record_transmission(p, solver, g, r.displacement_mm, r);
     out.push_back(p);
     if (r.progress) r.progress(out.size(), r.times_s.size());
   }

@@ -29,13 +29,6 @@ poro::PoroModel water_pin_model(const WaterPinGeometry& g, const material::Ogden
                                 double drained_poisson, const poro::Permeability& permeability,
                                 std::function<double(double)> displacement_mm);
 
-struct WaterMcSettings {
-  WaterOptics optics;
-  std::uint64_t photons = 20000, seed = 1;
-  int threads = 0;
-  std::string mesh_preset = "fast";
-};
-
 struct WaterTransmission {
   double T = 0, T_stderr = 0;
   std::vector<std::size_t> tets_per_level;

@@ -104,6 +104,17 @@ class CliRun : public tocd::test::CliTest {
     return pid;
   }
 
+  /// `tocdlab run` of the protocol file `p` on the analytic simulated lab with `options` is
+  /// refused (exit 1) before anything is opened: stderr says `why`, and no database is created.
+  void expect_run_refused(const fs::path& p, const std::string& options, const std::string& why) {
+    const auto db = dir_ / "lab.db";
+    EXPECT_EQ(tocdlab(fmt::format("run {} --simulated --sample analytic {} --db {}", p.string(), options,
+                                  db.string())),
+              1);
+    EXPECT_NE(err_.find(why), std::string::npos) << err_;
+    EXPECT_FALSE(fs::exists(db));
+  }
+
   bool wait_for_output(const std::string& text, double seconds) {
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
     while (read_file(out_path()).find(text) == std::string::npos) {
@@ -160,12 +171,7 @@ TEST_F(CliRun, MalformedProtocolNamesLineAndKeyAndCreatesNothing) {
   auto text = protocol(1.0);
   text.replace(text.find("record_s = 1"), 12, "record_s = \"one\"");
   const auto p = write("bad.toml", text);
-  const auto db = dir_ / "lab.db";
-  EXPECT_EQ(tocdlab(fmt::format("run {} --simulated --sample analytic --no-predict --db {}", p.string(),
-                                db.string())),
-            1);
-  EXPECT_NE(err_.find("bad.toml:13: [steps] record_s: must be a number"), std::string::npos) << err_;
-  EXPECT_FALSE(fs::exists(db));
+  expect_run_refused(p, "--no-predict", "bad.toml:13: [steps] record_s: must be a number");
 }
 
 TEST_F(CliRun, NotADatabaseIsRefusedAndLeftAlone) {
@@ -318,13 +324,8 @@ TEST_F(CliRun, TwoSigintsDuringAStepWithAPredictionRunningEndAtOnce) {
 // Photons fewer than the Monte Carlo batches: every prediction would fail; the run is refused
 // before anything is opened, and no database is created.
 TEST_F(CliRun, TooFewPhotonsForThePredictionsAreRefusedBeforeTheRun) {
-  const auto p = write("p.toml", protocol(1.0));
-  const auto db = dir_ / "lab.db";
-  EXPECT_EQ(tocdlab(fmt::format("run {} --simulated --sample analytic --photons 5 --db {}", p.string(),
-                                db.string())),
-            1);
-  EXPECT_NE(err_.find("photons must be at least the 20 Monte Carlo batches"), std::string::npos) << err_;
-  EXPECT_FALSE(fs::exists(db));
+  expect_run_refused(write("p.toml", protocol(1.0)), "--photons 5",
+                     "photons must be at least the 20 Monte Carlo batches");
 }
 
 // Data that cannot be written is an error, never an exit 0 with an empty file.

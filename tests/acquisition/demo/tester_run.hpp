@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "tocd/db/database.hpp"
+#include "tocd/db/writer.hpp"
 #include "tocd/test/temp_dir.hpp"
 
 namespace tocd::acquisition::testing {
@@ -40,6 +41,29 @@ inline TesterRun create_tester_run(db::Database& db, double thickness_mm, const 
   out.load_channel = db.add_channel(lc).id;
   return out;
 }
+
+/// Writes a tester run's samples as the engine streams them: one (displacement, load) pair
+/// per microsecond of the run's clock, from t = 1000 ns.
+class TesterSampleWriter {
+ public:
+  TesterSampleWriter(db::Database& db, const TesterRun& run) : writer_(db), run_(run) {}
+
+  void put(double displacement_mm, double load_N) {
+    writer_.enqueue(db::Sample{run_.displacement_channel, t_ns_, displacement_mm});
+    writer_.enqueue(db::Sample{run_.load_channel, t_ns_, load_N});
+    t_ns_ += 1000;
+  }
+  /// Commits every sample put so far and stops the writer.
+  void finish() {
+    writer_.flush();
+    writer_.stop();
+  }
+
+ private:
+  db::Writer writer_;
+  TesterRun run_;
+  std::int64_t t_ns_ = 1000;
+};
 
 /// A database file of its own per test, removed with its folder (and side files) after it.
 class TempDatabaseTest : public ::testing::Test {

@@ -25,6 +25,7 @@ namespace {
 class EngineTest : public EngineFixture {
  protected:
   struct BusySimulatorRun;
+  struct ObservedRun;
 };
 
 /// Records observer callbacks (called from engine threads).
@@ -48,6 +49,22 @@ struct Recorder : EngineObserver {
     std::lock_guard lock(mu);
     return static_cast<int>(steps.size());
   }
+};
+
+/// A run of the pin protocol's `steps` on the fake rig, the engine's callbacks recorded.
+struct EngineTest::ObservedRun {
+  ObservedRun(const fs::path& db_path, const std::string& steps)
+      : db(db_path),
+        engine(db, make_fake_instruments(world), EngineFixture::fast(), nullptr, &obs),
+        run(engine.start(parse_protocol(pin_protocol(steps), "engine.toml"))) {}
+  /// What a test drives and checks: the fake rig's world, the observer, the engine and the run's id.
+  auto parts() { return std::tie(world, obs, engine, run); }
+
+  std::shared_ptr<FakeWorld> world = std::make_shared<FakeWorld>(EngineFixture::kFactor);
+  Recorder obs;
+  tocd::db::Database db;
+  Engine engine;
+  std::int64_t run = 0;
 };
 
 /// A three-step run whose simulator is busy (its gate closed) until the test opens it.
@@ -200,11 +217,8 @@ TEST_F(EngineTest, LoadCellIsNotTaredUnderLoadOrWhenTheProtocolSaysSo) {
 }
 
 TEST_F(EngineTest, PauseResumeThenAbortRetractsAndKeepsData) {
-  auto world = std::make_shared<FakeWorld>(kFactor);
-  Recorder obs;
-  tocd::db::Database db(path_);
-  Engine engine(db, make_fake_instruments(world), fast(), nullptr, &obs);
-  const auto run = engine.start(parse_protocol(pin_protocol("0.25, 0.5, 0.75, 1.0"), "engine.toml"));
+  ObservedRun observed(path_, "0.25, 0.5, 0.75, 1.0");
+  auto [world, obs, engine, run] = observed.parts();
   ASSERT_TRUE(eventually([&] { return obs.step_count() >= 1 && engine.state() == EngineState::moving; }));
   engine.pause();
   ASSERT_TRUE(eventually([&] { return engine.state() == EngineState::paused; }));
@@ -336,11 +350,8 @@ TEST_F(EngineTest, VacuumSealLossPausesTheRun) {
 }
 
 TEST_F(EngineTest, PowerOverRangePauses) {
-  auto world = std::make_shared<FakeWorld>(kFactor);
-  Recorder obs;
-  tocd::db::Database db(path_);
-  Engine engine(db, make_fake_instruments(world), fast(), nullptr, &obs);
-  const auto run = engine.start(parse_protocol(pin_protocol("0.25, 0.5"), "engine.toml"));
+  ObservedRun observed(path_, "0.25, 0.5");
+  auto [world, obs, engine, run] = observed.parts();
   ASSERT_TRUE(eventually([&] { return engine.state() == EngineState::settling; }));
   world->power_over_range = true;
   ASSERT_TRUE(eventually([&] { return engine.state() == EngineState::paused; }));
@@ -410,11 +421,8 @@ TEST_F(EngineTest, MissingInstrumentIsAClearError) {
 }
 
 TEST_F(EngineTest, AnInstrumentThatKeepsFailingInterruptsTheRun) {
-  auto world = std::make_shared<FakeWorld>(kFactor);
-  Recorder obs;
-  tocd::db::Database db(path_);
-  Engine engine(db, make_fake_instruments(world), fast(), nullptr, &obs);
-  const auto run = engine.start(parse_protocol(pin_protocol("0.25, 0.5, 0.75"), "engine.toml"));
+  ObservedRun observed(path_, "0.25, 0.5, 0.75");
+  auto [world, obs, engine, run] = observed.parts();
   ASSERT_TRUE(eventually([&] { return obs.step_count() >= 1; }));
   world->fail_tester_reads = 1'000'000'000;  // the link is gone for good
   EXPECT_EQ(engine.wait(), EngineState::interrupted);

@@ -47,6 +47,13 @@ class StepTruth : public EngineFixture {
       EXPECT_NEAR(st->mean, p.steps[s.index].displacement_mm, p.position_tolerance_mm) << "step " << s.index;
     }
   }
+
+  /// The run's file holds `count` steps, every one completed at its target.
+  void expect_recorded_at_target(std::int64_t run, const Protocol& p, std::size_t count) const {
+    const tocd::db::Reader r(path_);
+    ASSERT_EQ(r.steps(run).size(), count);
+    expect_steps_at_target(r, run, p);
+  }
 };
 
 using tocd::test::page_count;
@@ -81,9 +88,7 @@ TEST_F(StepTruth, RefusedMovePausesNamingTheCommandAndTheAnswerThenResumeRecords
   EXPECT_NEAR(world->position_mm(), 0.0, 1e-9);  // the pin never left home
   engine.resume();
   EXPECT_EQ(engine.wait(), EngineState::completed) << engine.error();
-  const tocd::db::Reader r(path_);
-  ASSERT_EQ(r.steps(run).size(), 2u);
-  expect_steps_at_target(r, run, p);
+  expect_recorded_at_target(run, p, 2u);
 }
 
 TEST_F(StepTruth, RefusedMoveInterruptsWhenTheProtocolSaysSo) {
@@ -205,9 +210,7 @@ TEST_F(StepTruth, AWindowThatStaysFaultyLeavesTheStepWithoutARowAndPausesResumeR
   Engine again(db, make_fake_instruments(world), fast());
   again.resume(run);
   EXPECT_EQ(again.wait(), EngineState::completed) << again.error();
-  const tocd::db::Reader r(path_);
-  ASSERT_EQ(r.steps(run).size(), 2u);
-  expect_steps_at_target(r, run, p);
+  expect_recorded_at_target(run, p, 2u);
 }
 
 TEST_F(StepTruth, TooFewReadingsInTheWindowIsNotAMeasurement) {

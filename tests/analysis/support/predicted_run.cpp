@@ -33,14 +33,7 @@ std::int64_t write_predicted_run(const std::filesystem::path& path, const Predic
     step.index = s.index;
     step.displacement_mm = s.target_displacement_mm;
     step.thickness_mm = spec.thickness_mm;
-    const acquisition::PredictedStep p = predictor.predict(step).get();
-    db::PredictionRecord r;
-    r.run_id = run.id;
-    r.step_index = s.index;
-    r.T = p.T;
-    r.T_stderr = p.T_stderr;
-    r.config_json = p.config_json;
-    database.add_prediction(r);
+    database.add_prediction(acquisition::prediction_record(run.id, s.index, predictor.predict(step).get()));
   }
   database.set_run_status(run.id, db::RunStatus::completed);
   return run.id;

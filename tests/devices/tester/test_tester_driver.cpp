@@ -4,15 +4,12 @@
 #include "tester_fixture.hpp"
 #include "tocd/core/error.hpp"
 #include "tocd/devices/errors.hpp"
+#include "tocd/test/device_identity.hpp"
 
 using namespace tocd::devices;
 
 TEST_F(TesterTest, IdentityComesFromTheRegisterMap) {
-  const Identity id = tester_->identity();
-  EXPECT_EQ(id.vendor, "tocdlab");
-  EXPECT_EQ(id.model, "simulated load frame LF-1");
-  EXPECT_EQ(id.serial, "SIM00001");
-  EXPECT_EQ(id.firmware, "1.0.0");
+  EXPECT_EQ(tester_->identity(), (Identity{"tocdlab", "simulated load frame LF-1", "SIM00001", "1.0.0"}));
 }
 
 TEST_F(TesterTest, StartsReadyAtHomeWithTheLoadCellOffset) {

@@ -5,16 +5,13 @@
 
 #include "pm_fixture.hpp"
 #include "tocd/core/clock.hpp"
+#include "tocd/test/device_identity.hpp"
 
 using namespace pmtest;
 using tocd::ConfigError;
 
 TEST_P(MeterOverWire, IdentityAndSensor) {
-  const auto id = meter->identity();
-  EXPECT_EQ(id.vendor, "Thorlabs");
-  EXPECT_EQ(id.model, "PM100USB");
-  EXPECT_EQ(id.serial, "P0012345");
-  EXPECT_EQ(id.firmware, "1.6.0");
+  EXPECT_EQ(meter->identity(), (tocd::devices::Identity{"Thorlabs", "PM100USB", "P0012345", "1.6.0"}));
   EXPECT_EQ(meter->sensor_identity().substr(0, 6), "S121C,");
 }
 

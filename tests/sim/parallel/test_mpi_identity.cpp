@@ -18,6 +18,7 @@
 #include "tocd/sim/parallel/team.hpp"
 #include "tocd/sim/study/study.hpp"
 #include "tocd/test/files.hpp"
+#include "tocd/test/mc_request.hpp"
 
 namespace mc = tocd::sim::mc;
 namespace st = tocd::sim::study;
@@ -101,14 +102,10 @@ TEST(MpiIdentity, MonteCarloTalliesMatchOneProcessBitForBit) {
 }
 
 TEST(MpiIdentity, PredictionMatchesOneProcessBitForBit) {
-  st::PredictionRequest r;
-  r.displacement_mm = 0.6;
+  st::PredictionRequest r = tocd::test::mc_request(0.6, 20000, 4, 2);
   r.thickness_mm = 1.5;
-  r.photons = 20000;
-  r.seed = 4;
   r.max_edge_mm = 1.0;  // a coarse mesh: this checks identity, not accuracy
   r.tip_edge_mm = 0.2;
-  r.threads = 2;
   // One folder for every rank (not a TempDir, whose name is the process's own): named by
   // mpirun's process id, which all ranks share.
   const fs::path dir = fs::temp_directory_path() / ("tocd_mpi_predict_" + std::to_string(::getppid()));

@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include "poro_resolution.hpp"
 #include "poro_test_models.hpp"
 #include "tocd/sim/poro/solver.hpp"
 
@@ -44,15 +45,9 @@ double mandel_pressure(const std::vector<double>& roots, double prefactor, doubl
   return prefactor * sum;
 }
 
-#ifdef TOCD_PORO_LONG
-constexpr int kCells = 12, kMandelStepsPerDecade = 80;
-#define TOCD_PORO_MANDEL PoroMandelLong
-#else
-constexpr int kCells = 6, kMandelStepsPerDecade = 40;
-#define TOCD_PORO_MANDEL PoroMandel
-#endif
+constexpr int kCells = 6 * kPoroRefinement, kMandelStepsPerDecade = 40 * kPoroRefinement;
 
-TEST(TOCD_PORO_MANDEL, CentrePressureShowsTheMandelCryerRiseThenDecays) {
+TEST(TOCD_PORO_SUITE(PoroMandel), CentrePressureShowsTheMandelCryerRiseThenDecays) {
   const double mu = 0.01, nu = 0.0, a = 1.0, b = 1.0, k = 1.0, nu_u = 0.5;
   const double c = k * reference::constrained_modulus(mu, nu);
   const double F = 2e-4 * mu * a;  // half-width force: strains of the order of 1e-4
@@ -75,10 +70,7 @@ TEST(TOCD_PORO_MANDEL, CentrePressureShowsTheMandelCryerRiseThenDecays) {
   PoroSolver solver(m);
 
   double worst = 0, peak_model = 0, peak_series = 0;
-  const double T0 = 1e-4, T1 = 2.0;
-  const int steps = static_cast<int>(kMandelStepsPerDecade * std::log10(T1 / T0));
-  for (int n = 0; n <= steps; ++n) {
-    const double T = T0 * std::pow(T1 / T0, double(n) / steps);
+  for (const double T : geometric_times(1e-4, 2.0, kMandelStepsPerDecade)) {
     solver.advance_to(T * a * a / c);
     const double p_model = solver.pressure_at(0.0, 0.0), p_series = mandel_pressure(roots, prefactor, 0.0, T);
     peak_model = std::max(peak_model, p_model);

@@ -65,6 +65,18 @@ poro::PoroModel published_pin_model(const fe::FeModel& drained_model, double d, 
   return m;
 }
 
+// One pin problem of the suite: the pin to d in `ramp` s into a skeleton of drained Poisson's
+// ratio nu, beside the drained single-phase FE force at d that its hold relaxes toward.
+struct PinRamp {
+  PinRamp(double d, double nu, double ramp)
+      : drained_model(drained_fe_model(nu)),
+        drained_force(drained_force_N(drained_model, d)),
+        solver(published_pin_model(drained_model, d, ramp)) {}
+  const fe::FeModel drained_model;
+  const double drained_force;
+  poro::PoroSolver solver;
+};
+
 // Smallest volume ratio on a grid of reference points in the top 0.5 mm out to 3 mm.
 double smallest_volume_ratio_near_the_pin(const poro::PoroSolver& solver, double thickness_mm) {
   double min_J = 1e9;
@@ -78,30 +90,27 @@ double smallest_volume_ratio_near_the_pin(const poro::PoroSolver& solver, double
 
 TEST(PoroPinRamp, CompressibleSkeletonThroughTheRampAndAHold) {
   const double d = 1.25, nu = 0.3, ramp = 30, hold = 60;
-  const fe::FeModel drained_model = drained_fe_model(nu);
-  const double drained_force = drained_force_N(drained_model, d);
+  PinRamp pin(d, nu, ramp);
 
-  poro::PoroSolver solver(published_pin_model(drained_model, d, ramp));
-
-  double worst_balance = ramp_in_ten_steps(solver, ramp);
-  double force = solver.state().pin_force_N, outflow = solver.state().water_outflow_mm3;
+  double worst_balance = ramp_in_ten_steps(pin.solver, ramp);
+  double force = pin.solver.state().pin_force_N, outflow = pin.solver.state().water_outflow_mm3;
   const double peak = force;
   for (int n = 1; n <= 6; ++n) {
-    const auto& s = solver.advance_to(ramp + hold * n / 6);
+    const auto& s = pin.solver.advance_to(ramp + hold * n / 6);
     worst_balance = std::max(worst_balance, water_balance_error(s));
     // Consolidation under a fixed pin: water leaves, the force relaxes, never below drained.
     EXPECT_GE(s.water_outflow_mm3, outflow) << "t = " << s.time_s;
     EXPECT_LE(s.pin_force_N, force) << "t = " << s.time_s;
-    EXPECT_GT(s.pin_force_N, drained_force) << "t = " << s.time_s;
+    EXPECT_GT(s.pin_force_N, pin.drained_force) << "t = " << s.time_s;
     force = s.pin_force_N;
     outflow = s.water_outflow_mm3;
   }
-  const auto& s = solver.state();
+  const auto& s = pin.solver.state();
   std::printf(
       "pin %.2f mm, nu %.2f, ramp %.0f s: force %.5g N at the end of the ramp, %.5g N after %.0f s (drained "
       "FE "
       "%.5g N); water out %.4g mm^3; balance %.2g mm^3\n",
-      d, nu, ramp, peak, s.pin_force_N, hold, drained_force, s.water_outflow_mm3, worst_balance);
+      d, nu, ramp, peak, s.pin_force_N, hold, pin.drained_force, s.water_outflow_mm3, worst_balance);
   // Over 60 s of a consolidation time h^2 / (k mu) ~ 2900 s the force has relaxed measurably.
   EXPECT_LT(s.pin_force_N, 0.9 * peak);
   EXPECT_LT(worst_balance, 1e-6);
@@ -116,34 +125,31 @@ TEST(PoroPinRamp, CompressibleSkeletonThroughTheRampAndAHold) {
 // sampled point has its pores closed.
 TEST(PoroPinRamp, OneMillimetreHoldAfterAFastRampKeepsThePoresOpen) {
   const double d = 1.0, nu = 0.3, ramp = 10, hold = 60;
-  const fe::FeModel drained_model = drained_fe_model(nu);
-  const double drained_force = drained_force_N(drained_model, d);
+  PinRamp pin(d, nu, ramp);
 
-  poro::PoroSolver solver(published_pin_model(drained_model, d, ramp));
-
-  double worst_balance = ramp_in_ten_steps(solver, ramp);
-  const double peak = solver.state().pin_force_N;
-  double force = peak, outflow = solver.state().water_outflow_mm3;
+  double worst_balance = ramp_in_ten_steps(pin.solver, ramp);
+  const double peak = pin.solver.state().pin_force_N;
+  double force = peak, outflow = pin.solver.state().water_outflow_mm3;
   for (double into_hold : {1.0, 2.0, 4.0, 7.0, 11.0, 20.0, 35.0, hold}) {
     const double t = ramp + into_hold;
-    const auto& s = solver.advance_to(t);
+    const auto& s = pin.solver.advance_to(t);
     worst_balance = std::max(worst_balance, water_balance_error(s));
     EXPECT_LE(s.pin_force_N, force) << "t = " << t;
-    EXPECT_GT(s.pin_force_N, drained_force) << "t = " << t;
+    EXPECT_GT(s.pin_force_N, pin.drained_force) << "t = " << t;
     force = s.pin_force_N;
     if (t >= 30) {  // the ramp's inflow has reversed by then (docs/water.md, "State")
       EXPECT_GT(s.water_outflow_mm3, outflow) << "t = " << t;
       outflow = s.water_outflow_mm3;
     }
   }
-  const double min_J = smallest_volume_ratio_near_the_pin(solver, drained_model.thickness_mm);
+  const double min_J = smallest_volume_ratio_near_the_pin(pin.solver, pin.drained_model.thickness_mm);
   std::printf(
       "pin %.2f mm, nu %.2f, ramp %.0f s: force %.5g -> %.5g N (drained FE %.5g N), water out %.4g mm^3, "
       "smallest sampled J %.4f (phi0 0.25), balance %.2g mm^3, %d halvings in the last step\n",
-      d, nu, ramp, peak, solver.state().pin_force_N, drained_force, solver.state().water_outflow_mm3, min_J,
-      worst_balance, solver.state().step_halvings);
+      d, nu, ramp, peak, pin.solver.state().pin_force_N, pin.drained_force,
+      pin.solver.state().water_outflow_mm3, min_J, worst_balance, pin.solver.state().step_halvings);
   EXPECT_GT(min_J, 0.25);
-  EXPECT_LT(solver.state().pin_force_N, 0.95 * peak);
+  EXPECT_LT(pin.solver.state().pin_force_N, 0.95 * peak);
   EXPECT_LT(worst_balance, 1e-6);
 }
 
@@ -156,22 +162,19 @@ TEST(PoroPinRamp, OneMillimetreHoldAfterAFastRampKeepsThePoresOpen) {
 // test covers it along with the decay still under way at 3000 s and the two discretisations.
 TEST(PoroPinRamp, LongHoldAtOnePointTwoFiveMillimetresTendsToTheDrainedForce) {
   const double d = 1.25, nu = 0.3, ramp = 30;
-  const fe::FeModel drained_model = drained_fe_model(nu);
-  const double drained_force = drained_force_N(drained_model, d);
-
-  poro::PoroSolver solver(published_pin_model(drained_model, d, ramp));
-  ramp_in_ten_steps(solver, ramp);
-  double force = solver.state().pin_force_N;
+  PinRamp pin(d, nu, ramp);
+  ramp_in_ten_steps(pin.solver, ramp);
+  double force = pin.solver.state().pin_force_N;
   for (double into_hold : {342.0, 1000.0, 3000.0}) {  // as `predict --times 0,342,1000,3000`
-    const auto& s = solver.advance_to(ramp + into_hold);
+    const auto& s = pin.solver.advance_to(ramp + into_hold);
     EXPECT_LE(s.pin_force_N, force) << into_hold;
     force = s.pin_force_N;
   }
-  const double min_J = smallest_volume_ratio_near_the_pin(solver, drained_model.thickness_mm);
+  const double min_J = smallest_volume_ratio_near_the_pin(pin.solver, pin.drained_model.thickness_mm);
   std::printf(
       "pin 1.25 mm, nu 0.3, 3000 s hold: force %.6f N, drained FE %.6f N (%+.2f %%), smallest J %.4f\n",
-      force, drained_force, 100 * (force / drained_force - 1), min_J);
-  EXPECT_NEAR(force, drained_force, 0.01 * drained_force);
+      force, pin.drained_force, 100 * (force / pin.drained_force - 1), min_J);
+  EXPECT_NEAR(force, pin.drained_force, 0.01 * pin.drained_force);
   EXPECT_GT(min_J, 0.25);
 }
 

@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "poro_resolution.hpp"
 #include "poro_test_models.hpp"
 #include "tocd/sim/poro/solver.hpp"
 
@@ -37,15 +38,9 @@ double terzaghi_degree(double T) {
   return 1 - sum;
 }
 
-#ifdef TOCD_PORO_LONG
-constexpr int kRows = 16, kStepsPerDecade = 80;
-#define TOCD_PORO_TERZAGHI PoroTerzaghiLong
-#else
-constexpr int kRows = 8, kStepsPerDecade = 40;
-#define TOCD_PORO_TERZAGHI PoroTerzaghi
-#endif
+constexpr int kRows = 8 * kPoroRefinement, kStepsPerDecade = 40 * kPoroRefinement;
 
-TEST(TOCD_PORO_TERZAGHI, SettlementAndPorePressureFollowTheSeries) {
+TEST(TOCD_PORO_SUITE(PoroTerzaghi), SettlementAndPorePressureFollowTheSeries) {
   const double mu = 0.01, nu = 0.3, H = 1.0, k = 1.0;
   const double Mc = reference::constrained_modulus(mu, nu), c = k * Mc;
   const double q = 1e-4 * Mc;  // strain 1e-4: the finite-strain terms are 1e-4 relative
@@ -63,10 +58,7 @@ TEST(TOCD_PORO_TERZAGHI, SettlementAndPorePressureFollowTheSeries) {
   // Geometric time steps from T = 1e-4 to T = 2 (backward Euler: first-order in time).
   const double final_settlement = q * H / Mc;
   double worst_settlement = 0, worst_pressure = 0, worst_mid = 0;
-  const double T0 = 1e-4, T1 = 2.0;
-  const int steps = static_cast<int>(kStepsPerDecade * std::log10(T1 / T0));
-  for (int n = 0; n <= steps; ++n) {
-    const double T = T0 * std::pow(T1 / T0, double(n) / steps);
+  for (const double T : geometric_times(1e-4, 2.0, kStepsPerDecade)) {
     solver.advance_to(T * H * H / c);
     if (T < 0.02) continue;  // before T = 0.02 the drained boundary layer is thinner than a row
     const double settlement = -solver.displacement_at(0.1, H)[1];

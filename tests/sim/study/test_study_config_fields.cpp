@@ -12,6 +12,7 @@
 
 #include "tocd/core/error.hpp"
 #include "tocd/sim/study/predictor.hpp"
+#include "tocd/test/mc_request.hpp"
 
 namespace st = tocd::sim::study;
 using nlohmann::json;
@@ -21,11 +22,8 @@ namespace {
 /// A cheap step: few photons, coarse tets (the paper preset's quality at 0.6 mm), deep enough
 /// (1 mm into 2.5 mm) for a compressed region, whose optics are a field.
 st::PredictionRequest base_request() {
-  st::PredictionRequest r;
-  r.displacement_mm = 1.0;
-  r.photons = 2000;
+  st::PredictionRequest r = tocd::test::mc_request(1.0, 2000, 1, 2);
   r.max_edge_mm = 0.6;
-  r.threads = 2;
   return r;
 }
 

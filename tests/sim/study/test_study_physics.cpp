@@ -7,6 +7,7 @@
 
 #include "tocd/sim/study/predictor.hpp"
 #include "tocd/sim/study/study.hpp"
+#include "tocd/test/mc_request.hpp"
 
 namespace st = tocd::sim::study;
 
@@ -27,11 +28,7 @@ constexpr std::uint64_t kPhotons = 40000;
 #endif
 
 st::PredictionRequest request(double d_mm, const std::string& optics = "native") {
-  st::PredictionRequest r;
-  r.displacement_mm = d_mm;
-  r.photons = kPhotons;
-  r.seed = 11;
-  r.threads = 2;
+  st::PredictionRequest r = tocd::test::mc_request(d_mm, kPhotons, 11, 2);
   std::string label;
   st::apply_optics(optics, r, label);
   return r;

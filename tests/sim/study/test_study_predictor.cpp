@@ -7,17 +7,13 @@
 
 #include "tocd/core/error.hpp"
 #include "tocd/sim/study/predictor.hpp"
+#include "tocd/test/mc_request.hpp"
 
 namespace st = tocd::sim::study;
 
 namespace {
 st::PredictionRequest small(double d_mm) {
-  st::PredictionRequest r;
-  r.displacement_mm = d_mm;
-  r.photons = 4000;
-  r.seed = 5;
-  r.threads = 1;
-  return r;
+  return tocd::test::mc_request(d_mm, 4000, 5, 1);
 }
 }  // namespace
 

@@ -5,24 +5,15 @@
 #include <gtest/gtest.h>
 
 #include "tocd/sim/study/sensitivity.hpp"
+#include "tocd/test/mc_request.hpp"
 
 namespace st = tocd::sim::study;
 
-namespace {
-st::PredictionRequest flat_step() {
-  st::PredictionRequest r;  // zero displacement: flat skin, no FE, a cheap mesh
-  r.displacement_mm = 0.0;
-  r.photons = 20000;
-  r.batches = 10;
-  r.seed = 3;
-  r.threads = 2;
-  return r;
-}
-}  // namespace
-
 TEST(StudySensitivity, CommonRandomNumbersResolveWhatIndependentRunsCannot) {
   st::Predictor predictor;
-  const auto base = flat_step();
+  // Zero displacement: flat skin, no FE, a cheap mesh.
+  st::PredictionRequest base = tocd::test::mc_request(0.0, 20000, 3, 2);
+  base.batches = 10;
   st::SensitivityVariant same{"nothing", "same request", base};
   st::SensitivityVariant slide{"slide index", "1.52", base};
   slide.request.slide_n = 1.52;

@@ -1,12 +1,12 @@
 // `tocdlab compare`: measured vs. predicted transmission of a run, step by step.
 #include <iostream>
-#include <limits>
 #include <memory>
 #include <string>
 
 #include "command_registry.hpp"
 #include "compare_fitted.hpp"
 #include "compare_water.hpp"
+#include "db_location_option.hpp"
 #include "numeric_options.hpp"
 #include "output_naming.hpp"
 #include "tocd/acquisition/compare_table.hpp"
@@ -28,11 +28,8 @@ struct CompareOptions {
 void install_compare(CLI::App& root) {
   auto* cmd = root.add_subcommand("compare", "Measured vs. predicted transmission per step of a run");
   auto o = std::make_shared<CompareOptions>();
-  cmd->add_option("--db", o->db, "measurement database file, or a PostgreSQL server (postgresql://...)")
-      ->required();
-  cmd->add_option("--run", o->run, "run id (see tocdlab runs)")
-      ->check(cli::whole_in(std::int64_t{1}, std::numeric_limits<std::int64_t>::max()))
-      ->required();
+  cli::add_runs_database(cmd, o->db);
+  cli::add_run_id(cmd, o->run);
   cmd->add_flag("--json", o->json, "machine-readable output");
   cmd->add_option(
       "--material", o->fitted.material,

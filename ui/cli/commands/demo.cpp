@@ -92,7 +92,7 @@ an::SimPredictorSettings predictor_settings(const DemoOptions& o) {
   an::SimPredictorSettings predict;
   predict.photons = o.photons;
   predict.seed = o.seed;
-  predict.mc_threads = o.threads;
+  predict.threads = o.threads;
   an::validate(predict);
   return predict;
 }

@@ -2,7 +2,6 @@
 #include "tocd/db/export.hpp"
 
 #include <iostream>
-#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -10,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "command_registry.hpp"
+#include "db_location_option.hpp"
 #include "numeric_options.hpp"
 #include "output_naming.hpp"
 #include "output_paths.hpp"
@@ -53,11 +53,8 @@ void export_run(const ExportOptions& o) {
 void install_export(CLI::App& root) {
   auto* cmd = root.add_subcommand("export", "Export a run as CSV or JSON");
   auto o = std::make_shared<ExportOptions>();
-  cmd->add_option("--db", o->db, "measurement database file, or a PostgreSQL server (postgresql://...)")
-      ->required();
-  cmd->add_option("--run", o->run, "run id (see tocdlab runs)")
-      ->check(cli::whole_in(std::int64_t{1}, std::numeric_limits<std::int64_t>::max()))
-      ->required();
+  cli::add_runs_database(cmd, o->db);
+  cli::add_run_id(cmd, o->run);
   cmd->add_option("--format", o->format, "csv or json")
       ->check(CLI::IsMember({"csv", "json"}))
       ->capture_default_str();

@@ -125,25 +125,19 @@ void install_fe(CLI::App& root) {
       ->capture_default_str();
   cmd->add_option("--bottom", o->bottom, "skin on the slide: bonded | sliding")->capture_default_str();
   cmd->add_option("--kinematics", o->kinematics, "axi | plane-strain | plane-stress")->capture_default_str();
-  cmd->add_option("--thickness", o->thickness_mm, "skin thickness [mm]")
-      ->check(cli::real_above(0.0, 100.0))
-      ->capture_default_str();
-  cmd->add_option("--radius", o->outer_radius_mm, "skin radius (half width) [mm]")
-      ->check(cli::real_above(0.0, 1000.0))
-      ->capture_default_str();
-  cmd->add_option("--pin-radius", o->pin_radius_mm, "pin tip radius [mm]")
-      ->check(cli::real_above(0.0, 100.0))
-      ->capture_default_str();
-  cmd->add_option("--refine", o->refinement, "mesh refinement factor (2 = twice as fine)")
-      ->check(cli::real_above(0.0, 16.0))
-      ->capture_default_str();
-  cmd->add_option("--depth", o->depth_mm, "plane kinematics: out-of-plane depth [mm]")
-      ->check(cli::real_above(0.0, 1000.0))
-      ->capture_default_str();
+  cli::add_ranged_option(cmd, "--thickness", o->thickness_mm, "skin thickness [mm]",
+                         cli::real_above(0.0, 100.0));
+  cli::add_ranged_option(cmd, "--radius", o->outer_radius_mm, "skin radius (half width) [mm]",
+                         cli::real_above(0.0, 1000.0));
+  cli::add_ranged_option(cmd, "--pin-radius", o->pin_radius_mm, "pin tip radius [mm]",
+                         cli::real_above(0.0, 100.0));
+  cli::add_ranged_option(cmd, "--refine", o->refinement, "mesh refinement factor (2 = twice as fine)",
+                         cli::real_above(0.0, 16.0));
+  cli::add_ranged_option(cmd, "--depth", o->depth_mm, "plane kinematics: out-of-plane depth [mm]",
+                         cli::real_above(0.0, 1000.0));
   cmd->add_flag("--json", o->json, "machine-readable output");
-  cmd->add_option("--vtu", o->vtu, "write the deformed mesh (.vtu, one file per step: NAME_k.vtu)")
-      ->check(cli::output_file());
-  tocd::cli::add_vtu_format_option(cmd, o->vtu_format);
+  cli::add_vtu_output_options(cmd, o->vtu, o->vtu_format,
+                              "write the deformed mesh (.vtu, one file per step: NAME_k.vtu)");
   cmd->callback([o] { run_fe(*o); });
 }
 

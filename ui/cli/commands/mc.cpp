@@ -104,9 +104,8 @@ void install_mc(CLI::App& root) {
   auto o = std::make_shared<McOptions>();
   cmd->add_option("--mesh", o->mesh_prefix, "TetGen mesh prefix (PREFIX.node, .ele, optional .face)");
   cmd->add_option("--slab", o->slab, "built-in slab: WxDxT or WxD:T1@R1,T2@R2,... (mm, layers top-down)");
-  cmd->add_option("--slab-cells", o->slab_cells, "slab cells across x and y")
-      ->check(cli::whole_in(std::int64_t{1}, std::int64_t{1000}))
-      ->capture_default_str();
+  cli::add_ranged_option(cmd, "--slab-cells", o->slab_cells, "slab cells across x and y",
+                         cli::whole_in(std::int64_t{1}, std::int64_t{1000}));
   cmd->add_option("--optics", o->optics_file, "optics TOML: [region.<id>] mu_a, mu_s (1/mm), g, n")
       ->required();
   cmd->add_option("--source", o->source,
@@ -115,16 +114,14 @@ void install_mc(CLI::App& root) {
   cli::add_photons_option(*cmd, "--photons", o->photons, "photons to launch");
   cli::add_seed_option(*cmd, o->seed, "random seed");
   cli::add_threads_option(*cmd, o->threads, "threads (0 = all cores; results do not depend on it)");
-  cmd->add_option("--batches", o->batches, "batches for standard errors")
-      ->check(cli::whole_in(std::int64_t{2}, std::int64_t{1000000}))
-      ->capture_default_str();
+  cli::add_ranged_option(cmd, "--batches", o->batches, "batches for standard errors",
+                         cli::whole_in(std::int64_t{2}, std::int64_t{1000000}));
   cmd->add_option("--ambient-n", o->ambient_n,
                   "refractive index outside the mesh (default: optics file, else 1.0)")
       ->check(cli::real_in(1.0, 5.0));
   cmd->add_flag("--json", o->json, "machine-readable output");
-  cmd->add_option("--vtu", o->vtu, "write per-tet fluence to this .vtu file (ParaView)")
-      ->check(cli::output_file());
-  tocd::cli::add_vtu_format_option(cmd, o->vtu_format);
+  cli::add_vtu_output_options(cmd, o->vtu, o->vtu_format,
+                              "write per-tet fluence to this .vtu file (ParaView)");
   cmd->callback([o] { run_mc(*o); });
 }
 

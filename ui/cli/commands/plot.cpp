@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
+#include "db_location_option.hpp"
 #include "numeric_options.hpp"
 #include "output_paths.hpp"
 #include "tocd/acquisition/compare_table.hpp"
@@ -199,9 +200,7 @@ void install_plot(CLI::App& root) {
   auto* compare = cmd->add_subcommand("compare", "Measured vs. predicted T per step of a recorded run");
   add_common(compare, *o);
   compare->add_option("--db", o->db, "measurement database file")->required();
-  compare->add_option("--run", o->run, "run id (see tocdlab runs)")
-      ->check(cli::whole_in(std::int64_t{1}, std::numeric_limits<std::int64_t>::max()))
-      ->required();
+  cli::add_run_id(compare, o->run);
   compare->callback([o] {
     plot::write_figure(compare_figure(*o), o->output, o->size);
     wrote(*o);

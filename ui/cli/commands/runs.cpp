@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
+#include "db_location_option.hpp"
 #include "output_naming.hpp"
 #include "tocd/core/clock.hpp"
 #include "tocd/core/printable.hpp"
@@ -73,8 +74,7 @@ void list_runs(const RunsOptions& o) {
 void install_runs(CLI::App& root) {
   auto* cmd = root.add_subcommand("runs", "List the runs of a measurement database");
   auto o = std::make_shared<RunsOptions>();
-  cmd->add_option("--db", o->db, "measurement database file, or a PostgreSQL server (postgresql://...)")
-      ->required();
+  tocd::cli::add_runs_database(cmd, o->db);
   cmd->add_flag("--json", o->json, "print the runs as one JSON document");
   cmd->callback([o] { list_runs(*o); });
 }

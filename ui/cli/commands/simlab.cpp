@@ -116,24 +116,20 @@ void install_simlab(CLI::App& root) {
   cmd->add_option("--config", o->config, "lab TOML whose tester/power-meter ports to serve on");
   cmd->add_option("--write-config", o->write_config, "write a lab TOML pointing at the simulated instruments")
       ->check(tocd::cli::output_file());
-  cmd->add_option("--clock-factor", o->clock_factor, "simulated seconds per real second")
-      ->check(cli::real_above(0.0, 1e6))
-      ->capture_default_str();
-  cmd->add_option("--source-power", o->source_power_W, "source power (W)")
-      ->check(cli::real_above(0.0, 1000.0))
-      ->capture_default_str();
-  cmd->add_option("--contact", o->contact_mm, "tester position where the pin touches the sample (mm)")
-      ->check(cli::real_in(-1000.0, 1000.0))
-      ->capture_default_str();
-  cmd->add_option("--thickness", o->thickness_mm, "sample thickness (mm)")
-      ->check(cli::real_above(0.0, 100.0))
-      ->capture_default_str();
+  cli::add_ranged_option(cmd, "--clock-factor", o->clock_factor, "simulated seconds per real second",
+                         cli::real_above(0.0, 1e6));
+  cli::add_ranged_option(cmd, "--source-power", o->source_power_W, "source power (W)",
+                         cli::real_above(0.0, 1000.0));
+  cli::add_ranged_option(cmd, "--contact", o->contact_mm,
+                         "tester position where the pin touches the sample (mm)",
+                         cli::real_in(-1000.0, 1000.0));
+  cli::add_ranged_option(cmd, "--thickness", o->thickness_mm, "sample thickness (mm)",
+                         cli::real_above(0.0, 100.0));
   cli::add_seed_option(*cmd, o->seed, "noise seed");
   cli::add_sample_options(*cmd, o->sample);
-  cmd->add_option("--max-displacement", o->max_displacement_mm,
-                  "deepest pin displacement the simulated sample is prepared for (mm; held beyond)")
-      ->check(cli::real_above(0.0, 100.0))
-      ->capture_default_str();
+  cli::add_ranged_option(cmd, "--max-displacement", o->max_displacement_mm,
+                         "deepest pin displacement the simulated sample is prepared for (mm; held beyond)",
+                         cli::real_above(0.0, 100.0));
   cmd->add_flag("--no-vacuum", o->no_vacuum, "no vacuum controller");
   cmd->add_flag("--no-power-meter", o->no_power_meter, "no power meter");
   cmd->callback([o] { run_simlab(*o); });

@@ -4,6 +4,8 @@
 #include <future>
 #include <string>
 
+#include "tocd/db/records.hpp"
+
 namespace tocd::acquisition {
 
 /// A step as recorded, handed to the simulator for a prediction of its transmission.
@@ -24,6 +26,10 @@ struct PredictedStep {
   double fe_seconds = -1, mesh_seconds = -1, mc_seconds = -1;  ///< < 0 = not reported
   std::string summary_json;                                    ///< optional extras ("" = none)
 };
+
+/// The database record of `p` as the prediction of step `step_index` of run `run_id`: the
+/// stage timings a predictor did not report stay unset; the software version is this build's.
+db::PredictionRecord prediction_record(std::int64_t run_id, int step_index, const PredictedStep& p);
 
 /// Predicts a recorded step's transmission. The simulator's implementation, over
 /// sim::study::Predictor, is analysis::SimStepPredictor (analysis/src/sim_step_predictor.cpp):

@@ -61,14 +61,13 @@ struct RunWaterCourseOptions {
 struct WaterCoursePoint {
   double t_s = 0;         ///< on the history's clock (since the first displacement sample)
   double t_window_s = 0;  ///< since the start of the step's recording window
-  double displacement_mm = 0;
   MeasuredT measured;
-  bool computed = false;  ///< false: `failure` says why; T, T_se, force, outflow are NaN
-  std::string failure;
-  double T = 0, T_se = 0;  ///< T(t) / T(glass-only baseline), as the engine's predictions
-  double pin_force_N = 0, water_outflow_mm3 = 0;
-  /// Wall seconds: the FE since the previous point, this point's composite mesh, its Monte Carlo.
-  double fe_seconds = 0, mesh_seconds = 0, mc_seconds = 0;
+  /// The water-graded prediction at t_s as the solver gave it: the pin's displacement, whether
+  /// it was computed (false: `failure` says why and its numbers are NaN), the absolute T, the
+  /// pin's force, the water pushed out, and the wall seconds of the FE since the previous
+  /// point, this point's composite mesh and its Monte Carlo.
+  sim::study::WaterHistoryPoint predicted;
+  double T = 0, T_se = 0;  ///< predicted.T / T(glass-only baseline), as the engine's predictions
 };
 
 struct WaterCourseStep {

@@ -19,7 +19,7 @@ struct SimPredictorSettings {
   std::uint64_t seed = 1;
   std::string mesh_preset = "fast";
   std::string optics_model = "threshold";  ///< "threshold" | "graded"
-  int mc_threads = 0;                      ///< 0 = all cores
+  int threads = 0;                         ///< Monte Carlo threads, 0 = all cores
   /// Model material; default: the published skin. The sample's thickness comes from the step.
   sim::material::OgdenParameters material = sim::study::published_skin_material();
 };

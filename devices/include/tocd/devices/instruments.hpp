@@ -14,6 +14,7 @@ struct Identity {
   std::string model;
   std::string serial;
   std::string firmware;
+  friend bool operator==(const Identity&, const Identity&) = default;
 };
 
 /// What every instrument driver answers, whatever the instrument measures.

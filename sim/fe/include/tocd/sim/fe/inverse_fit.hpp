@@ -101,6 +101,10 @@ std::vector<double> pin_force_curve(const PinCompressionData& data,
 
 nlohmann::json to_json(const InverseFitResult& result);
 
+/// A law's Drucker stability as the fits' JSON writes it: stable, lambda_min, lambda_max,
+/// first_failure (here, beside the fits' JSON: sim/material has no JSON).
+nlohmann::json to_json(const tocd::sim::material::StabilityReport& stability);
+
 /// What a fit's JSON (to_json, `tocdlab fit --method fe --json`) gives its readers: the fitted
 /// law and the laws at the ends of its confidence-ellipsoid axes, each validated. Throws
 /// nlohmann::json::exception for a missing or mistyped key, MaterialError for a bad law.

@@ -27,7 +27,7 @@ struct DisplacementHistory {
 /// in ONE biphasic FE solve, so that the water a hold starts with is what the earlier steps
 /// left; at each of `times_s` (seconds on the history's clock) the state is meshed and its
 /// transmission computed with water-content optics (docs/water.md).
-struct WaterHistoryRequest {
+struct WaterHistoryRequest : WaterMcSettings {
   DisplacementHistory history;
   std::vector<double> times_s;  ///< ascending, within [0, last knot]
   double thickness_mm = 2.5, outer_radius_mm = 6.25, pin_radius_mm = 1.5;
@@ -42,10 +42,6 @@ struct WaterHistoryRequest {
   /// the solver gives up (docs/water.md, State), so the time points from there on are reported
   /// as not computed with this as the reason. <= 0: no limit.
   double fe_budget_s = 120;
-  WaterOptics optics;
-  std::uint64_t photons = 20000, seed = 1;
-  int threads = 0;
-  std::string mesh_preset = "fast";
   /// Called after each time point (points done, points in all); may be empty.
   std::function<void(std::size_t, std::size_t)> progress;
 };

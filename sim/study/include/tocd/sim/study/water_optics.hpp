@@ -1,7 +1,9 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "tocd/sim/mc/optics.hpp"
@@ -25,6 +27,15 @@ struct WaterOptics {
   GradedOptics graded;  ///< end points and bins (graded.full_strain is not used)
   double water_index = 1.33;
   double dry_index = 1.53;
+};
+
+/// The Monte Carlo of every time point of a water request, the same for a single ramp + hold
+/// (WaterTimeCourseRequest) and a recorded history (WaterHistoryRequest): both requests are one.
+struct WaterMcSettings {
+  WaterOptics optics;
+  std::uint64_t photons = 20000, seed = 1;
+  int threads = 0;
+  std::string mesh_preset = "fast";
 };
 
 /// Water volume fraction of native skin implied by the index mix: (n_dry - n_native) /

@@ -18,7 +18,7 @@ namespace tocd::sim::study {
 /// `displacement_mm` over `ramp_s`, then held; at each of `times_s` (seconds since the start
 /// of the hold) the biphasic FE state is meshed and its transmission computed with
 /// water-content optics.
-struct WaterTimeCourseRequest {
+struct WaterTimeCourseRequest : WaterMcSettings {
   /// Defaults: a depth and a compressible skeleton (drained Poisson's ratio 0.3) at which water
   /// leaves and T rises over the hold beyond its Monte Carlo error; measured to converge
   /// through the ramp and the 60 s hold (docs/water.md, State).
@@ -30,10 +30,6 @@ struct WaterTimeCourseRequest {
   double drained_poisson = 0.3;
   tocd::sim::poro::Permeability permeability{1.0, 0.25, 0.0, 0.0};
   int fe_columns = 24, fe_rows = 8, steps_per_interval = 1;
-  WaterOptics optics;
-  std::uint64_t photons = 20000, seed = 1;
-  int threads = 0;
-  std::string mesh_preset = "fast";
   /// Called after each time point (points done, points in all); may be empty.
   std::function<void(std::size_t, std::size_t)> progress;
 };
