@@ -218,10 +218,12 @@ TEST_F(EngineTest, LoadCellIsNotTaredUnderLoadOrWhenTheProtocolSaysSo) {
 
 TEST_F(EngineTest, PauseResumeThenAbortRetractsAndKeepsData) {
   ObservedRun observed(path_, "0.25, 0.5, 0.75, 1.0");
+  // Lambdas name observed.obs and observed.engine: clang 14 cannot capture structured bindings.
   auto [world, obs, engine, run] = observed.parts();
-  ASSERT_TRUE(eventually([&] { return obs.step_count() >= 1 && engine.state() == EngineState::moving; }));
+  ASSERT_TRUE(eventually(
+      [&] { return observed.obs.step_count() >= 1 && observed.engine.state() == EngineState::moving; }));
   engine.pause();
-  ASSERT_TRUE(eventually([&] { return engine.state() == EngineState::paused; }));
+  ASSERT_TRUE(eventually([&] { return observed.engine.state() == EngineState::paused; }));
   const int stops = world->stop_calls;
   EXPECT_GE(stops, 1);
   const double held = world->position_mm();
@@ -229,7 +231,7 @@ TEST_F(EngineTest, PauseResumeThenAbortRetractsAndKeepsData) {
   EXPECT_NEAR(world->position_mm(), held, 1e-12);               // the pin stays put while paused
   EXPECT_EQ(obs.step_count(), 1);
   engine.resume();
-  ASSERT_TRUE(eventually([&] { return obs.step_count() >= 2; }));
+  ASSERT_TRUE(eventually([&] { return observed.obs.step_count() >= 2; }));
   engine.abort("test abort");
   EXPECT_EQ(engine.wait(), EngineState::aborted);
 
@@ -352,9 +354,9 @@ TEST_F(EngineTest, VacuumSealLossPausesTheRun) {
 TEST_F(EngineTest, PowerOverRangePauses) {
   ObservedRun observed(path_, "0.25, 0.5");
   auto [world, obs, engine, run] = observed.parts();
-  ASSERT_TRUE(eventually([&] { return engine.state() == EngineState::settling; }));
+  ASSERT_TRUE(eventually([&] { return observed.engine.state() == EngineState::settling; }));
   world->power_over_range = true;
-  ASSERT_TRUE(eventually([&] { return engine.state() == EngineState::paused; }));
+  ASSERT_TRUE(eventually([&] { return observed.engine.state() == EngineState::paused; }));
   world->power_over_range = false;
   engine.abort();
   EXPECT_EQ(engine.wait(), EngineState::aborted);
@@ -423,7 +425,7 @@ TEST_F(EngineTest, MissingInstrumentIsAClearError) {
 TEST_F(EngineTest, AnInstrumentThatKeepsFailingInterruptsTheRun) {
   ObservedRun observed(path_, "0.25, 0.5, 0.75");
   auto [world, obs, engine, run] = observed.parts();
-  ASSERT_TRUE(eventually([&] { return obs.step_count() >= 1; }));
+  ASSERT_TRUE(eventually([&] { return observed.obs.step_count() >= 1; }));
   world->fail_tester_reads = 1'000'000'000;  // the link is gone for good
   EXPECT_EQ(engine.wait(), EngineState::interrupted);
   EXPECT_NE(engine.error().find("mechanical tester lost: failing for"), std::string::npos) << engine.error();
