@@ -43,7 +43,11 @@ struct ConnectionLook {
   const char* text;  ///< translated in InstrumentPanel's context
 };
 
-// In InstrumentPanel::Connection order.
+// In InstrumentPanel::Connection order: the table is indexed by the state. The assert catches a
+// reordered or inserted state; a state added after `lost` needs its row here too.
+using Connection = InstrumentPanel::Connection;
+static_assert(static_cast<int>(Connection::absent) == 0 && static_cast<int>(Connection::connecting) == 1 &&
+              static_cast<int>(Connection::connected) == 2 && static_cast<int>(Connection::lost) == 3);
 const std::array<ConnectionLook, 4> kConnectionLooks{{
     {lamp::off, QT_TRANSLATE_NOOP("tocd::gui::InstrumentPanel", "not configured")},
     {lamp::busy, QT_TRANSLATE_NOOP("tocd::gui::InstrumentPanel", "connecting…")},
