@@ -20,9 +20,15 @@ PredictionQueue::~PredictionQueue() {
   if (worker_.joinable()) worker_.join();
 }
 
-void PredictionQueue::start(std::int64_t run_id, std::function<void()> done) {
+void PredictionQueue::start(std::int64_t run_id, double thickness_mm, std::function<void()> done) {
   run_id_ = run_id;
-  worker_ = std::thread([this, done = std::move(done)] {
+  worker_ = std::thread([this, thickness_mm, done = std::move(done)] {
+    try {
+      // A predictor that cannot prepare still predicts: each step then says what failed.
+      if (predictor_) predictor_->prepare(thickness_mm);
+    } catch (const std::exception& e) {
+      logger("acquisition")->warn("run {}: the predictor could not prepare: {}", run_id_, e.what());
+    }
     try {
       run();
     } catch (const std::exception& e) {

@@ -34,9 +34,10 @@ class PredictionQueue {
   /// Whether there is a predictor (otherwise push() drops the step).
   bool enabled() const noexcept { return predictor_ != nullptr; }
 
-  /// Starts the worker for run `run_id`; `done` is called on it once the queue was closed and
-  /// every prediction has landed (also when the worker failed).
-  void start(std::int64_t run_id, std::function<void()> done);
+  /// Starts the worker for run `run_id` of a sample `thickness_mm` thick (it tells the
+  /// predictor first: StepPredictor::prepare); `done` is called on it once the queue was closed
+  /// and every prediction has landed (also when the worker failed).
+  void start(std::int64_t run_id, double thickness_mm, std::function<void()> done);
   void push(const RecordedStep& step);
   /// No more steps come; the worker ends when the pending ones have landed.
   void close();

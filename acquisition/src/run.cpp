@@ -67,7 +67,7 @@ void Run::start() {
   recorder_.start(parts_.db, writer_options());
   sequencer_.announce();
   pollers_.start(parts_.instruments.present());
-  predictions_.start(setup_.run_id, [this] {
+  predictions_.start(setup_.run_id, setup_.protocol.sample.thickness_mm, [this] {
     // The run's predictions belong to it: its end is when the last of them landed (or was
     // given up), so every time stored with the run lies between its start and its end.
     try {

@@ -83,9 +83,26 @@ std::shared_future<sim::study::Prediction> SimStepPredictor::baseline(double thi
   return *baseline_;
 }
 
+void SimStepPredictor::prepare(double thickness_mm) {
+  (void)baseline(thickness_mm);
+}
+
+std::vector<double> SimStepPredictor::path_before(const acquisition::RecordedStep& step) {
+  std::lock_guard lock(mutex_);
+  if (!(step.displacement_mm > 0)) return {};  // no contact, no FE
+  // Another sample, or the pin went back: the FE starts again from first touch.
+  if (step.thickness_mm != path_thickness_mm_ || (!path_.empty() && step.displacement_mm <= path_.back()))
+    path_.clear();
+  path_thickness_mm_ = step.thickness_mm;
+  std::vector<double> before = path_;
+  path_.push_back(step.displacement_mm);
+  return before;
+}
+
 std::future<acquisition::PredictedStep> SimStepPredictor::predict(const acquisition::RecordedStep& step) {
-  const sim::study::PredictionRequest request = request_for(step.displacement_mm, step.thickness_mm);
+  sim::study::PredictionRequest request = request_for(step.displacement_mm, step.thickness_mm);
   sim::study::validate(request);  // a bad step fails here, in the caller's thread
+  request.fe_path_mm = path_before(step);
   auto base = baseline(step.thickness_mm);
   auto fut = predictor_->submit(request).share();
   return std::async(std::launch::async, [base, fut]() {

@@ -1,10 +1,14 @@
 // The adapter from recorded steps to the FE + mesh + Monte Carlo predictor.
+#include <chrono>
 #include <cmath>
+#include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "tocd/analysis/sim_step_predictor.hpp"
+#include "tocd/sim/study/predictor.hpp"
 
 namespace acq = tocd::acquisition;
 namespace an = tocd::analysis;
@@ -56,6 +60,49 @@ TEST(SimStepPredictor, PredictsRelativeToTheGlassOnlyBaseline) {
   // A step the model cannot take fails at once, naming the field.
   step.displacement_mm = 2.5;
   EXPECT_THROW(p.predict(step), tocd::ConfigError);
+}
+
+// A run's steps are one loading path while the pin goes deeper: each step's FE goes on from the
+// step before (its config names the path), a step the pin went back to starts again from first
+// touch, and a stored config re-run on a predictor that never saw the run gives the same bits.
+TEST(SimStepPredictor, EachStepGoesOnFromThePreviousOneAndItsConfigReproducesIt) {
+  an::SimPredictorSettings s;
+  s.photons = 4000;
+  s.seed = 5;
+  auto study = std::make_shared<tocd::sim::study::Predictor>(1);
+  an::SimStepPredictor p(study, s);
+  acq::RecordedStep step;
+  step.thickness_mm = 2.0;
+  p.prepare(step.thickness_mm);  // the glass-only baseline starts before any step
+  for (int waited = 0; study->cache_counts().mesh_misses == 0 && waited < 600; ++waited)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  EXPECT_EQ(study->cache_counts().mesh_misses, 1u) << "the baseline's mesh, before the first step";
+
+  std::vector<acq::PredictedStep> got;
+  for (const double d : {0.0, 0.25, 0.5, 0.75, 0.5}) {
+    step.displacement_mm = d;
+    got.push_back(p.predict(step).get());
+  }
+  const auto path_of = [&](std::size_t k) {
+    const auto step_config = nlohmann::json::parse(got[k].config_json)["step"];
+    return step_config.value("fe_path_mm", std::vector<double>{});
+  };
+  EXPECT_EQ(path_of(0), std::vector<double>{}) << "no contact, no FE";
+  EXPECT_EQ(path_of(1), std::vector<double>{}) << "first touch";
+  EXPECT_EQ(path_of(2), (std::vector<double>{0.25}));
+  EXPECT_EQ(path_of(3), (std::vector<double>{0.25, 0.5}));
+  EXPECT_EQ(path_of(4), std::vector<double>{}) << "the pin went back: from first touch again";
+  EXPECT_EQ(study->cache_counts().mesh_misses, 6u) << "one mesh per step and the baseline's";
+
+  // The deepest step's stored config, on a predictor of its own: the same FE along the same
+  // path from first touch, the same mesh, the same photons.
+  const auto config = nlohmann::json::parse(got[3].config_json);
+  tocd::sim::study::Predictor fresh(1);
+  const auto again = fresh.predict(tocd::sim::study::request_from_config(config["step"]));
+  const auto summary = nlohmann::json::parse(got[3].summary_json);
+  EXPECT_EQ(again.T, summary["T_absolute"]["mean"].get<double>());
+  ASSERT_TRUE(summary["fe"].contains("force_N")) << summary["fe"];
+  EXPECT_EQ(again.fe_summary["force_N"], summary["fe"]["force_N"]);
 }
 
 }  // namespace

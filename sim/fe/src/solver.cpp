@@ -17,7 +17,8 @@
 
 namespace tocd::sim::fe {
 
-namespace {
+// The Newton solver is named outside the anonymous namespace: PinCompression's state holds one.
+namespace pin_solver {
 
 using Eigen::VectorXd;
 
@@ -166,6 +167,12 @@ class Solver {
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt_;
 };
 
+}  // namespace pin_solver
+
+namespace {
+
+using pin_solver::Solver;
+
 void check_inputs(const FeModel& model, const std::vector<double>& d) {
   model.validate();
   if (d.empty()) throw FeError("FE solve: no displacements requested");
@@ -181,45 +188,75 @@ void check_inputs(const FeModel& model, const std::vector<double>& d) {
   }
 }
 
-}  // namespace
-
-FeResult solve(const FeModel& model, const std::vector<double>& displacements_mm) {
-  return solve(model, displacements_mm, {});
-}
-
-FeResult solve(const FeModel& model, const std::vector<double>& displacements_mm,
-               const std::function<void(double)>& on_increment) {
-  check_inputs(model, displacements_mm);
-  const auto t0 = std::chrono::steady_clock::now();
-  const tocd::sim::material::OgdenLaw law(model.material);
+void check_stability(const tocd::sim::material::OgdenLaw& law, const FeModel& model, double deepest_mm) {
   // Drucker stability over the stretches the requested compression can reach (and their
   // inverses, met laterally): an unstable law would give a meaningless answer.
-  const double lmin = std::clamp(1 - 2 * displacements_mm.back() / model.thickness_mm, 0.15, 0.9);
+  const double lmin = std::clamp(1 - 2 * deepest_mm / model.thickness_mm, 0.15, 0.9);
   const auto stab = tocd::sim::material::check_stability(law, lmin, 1 / lmin);
   if (!stab.stable)
     throw FeError(fmt::format(
         "FE solve: the material is unstable (Drucker) within the stretch range [{:.3g}, {:.3g}]: {}", lmin,
         1 / lmin, stab.first_failure));
+}
+
+}  // namespace
+
+// The model and law live here, at fixed addresses, because the solver keeps references to them.
+struct PinCompression::State {
+  explicit State(FeModel m)
+      : model(std::move(m)), law(model.material), solver((model.validate(), model), law) {}
+  FeModel model;
+  tocd::sim::material::OgdenLaw law;
+  pin_solver::Solver solver;
+  double d = 0, step = 0, dd_prev = 0;  ///< where the path is, the next increment, the last one
+  std::vector<double> path;
+  bool usable = true;
+};
+
+PinCompression::PinCompression(FeModel model) : state_(std::make_unique<State>(std::move(model))) {}
+PinCompression::~PinCompression() = default;
+PinCompression::PinCompression(PinCompression&&) noexcept = default;
+PinCompression& PinCompression::operator=(PinCompression&&) noexcept = default;
+
+const std::vector<double>& PinCompression::path_mm() const {
+  return state_->path;
+}
+
+bool PinCompression::usable() const {
+  return state_->usable;
+}
+
+FeResult PinCompression::advance(const std::vector<double>& displacements_mm,
+                                 const std::function<void(double)>& on_increment) {
+  State& st = *state_;
+  if (!st.usable) throw FeError("FE solve: this compression stopped earlier and cannot go on");
+  check_inputs(st.model, displacements_mm);
+  if (!st.path.empty() && !(displacements_mm.front() > st.path.back()))
+    throw FeError(fmt::format("FE solve: displacement {} mm does not go on from {} mm, where the path is",
+                              displacements_mm.front(), st.path.back()));
+  const auto t0 = std::chrono::steady_clock::now();
+  check_stability(st.law, st.model, displacements_mm.back());
 
   FeResult res;
-  res.model = model;
-  Solver solver(model, law);
-  const auto& sv = model.solver;
-  double d = 0, step = std::min(sv.initial_step_mm, displacements_mm.front()), dd_prev = 0;
+  res.model = st.model;
+  const auto& sv = st.model.solver;
+  if (st.path.empty()) st.step = std::min(sv.initial_step_mm, displacements_mm.front());
+  double& d = st.d;
   int iters_since = 0, incs_since = 0;
   std::size_t next = 0;
+  st.usable = false;  // until this advance reaches its last displacement
   while (next < displacements_mm.size()) {
     const double target = displacements_mm[next];
-    double dd = std::min(step, target - d);
+    double dd = std::min(st.step, target - d);
     if (target - d - dd < 0.25 * dd) dd = target - d;  // no sliver increment before a target
     int iters = 0;
     std::string why;
-    const bool ok = solver.increment(d + dd, dd_prev, dd, iters, why);
+    const bool ok = st.solver.increment(d + dd, st.dd_prev, dd, iters, why);
     iters_since += iters;
     res.total_newton_iterations += iters;
     if (!ok) {
-      step = 0.5 * dd;
-      if (step < sv.min_step_mm) {
+      st.step = 0.5 * dd;
+      if (st.step < sv.min_step_mm) {
         res.complete = false;
         res.stop_reason = fmt::format(
             "stopped at {:.4g} mm (last converged; {:.4g} mm requested): {} at {:.4g} mm with the smallest "
@@ -230,26 +267,41 @@ FeResult solve(const FeModel& model, const std::vector<double>& displacements_mm
       continue;
     }
     d = (dd == target - d) ? target : d + dd;
-    dd_prev = dd;
+    st.dd_prev = dd;
     ++incs_since;
     ++res.total_load_increments;
     if (on_increment) on_increment(d);
     if (iters <= 5)
-      step = std::min(sv.max_step_mm, 1.5 * dd);
+      st.step = std::min(sv.max_step_mm, 1.5 * dd);
     else if (iters >= 12)
-      step = std::max(sv.min_step_mm, 0.6 * dd);
+      st.step = std::max(sv.min_step_mm, 0.6 * dd);
     else
-      step = dd;
+      st.step = dd;
     if (d == target) {
-      res.steps.push_back(
-          make_step_result(model, law, solver.assembly(), solver.displacement(), solver.evaluation(), d));
+      res.steps.push_back(make_step_result(st.model, st.law, st.solver.assembly(), st.solver.displacement(),
+                                           st.solver.evaluation(), d));
       res.steps.back().newton_iterations = iters_since;
       res.steps.back().load_increments = incs_since;
       iters_since = incs_since = 0;
+      st.path.push_back(d);
       ++next;
     }
   }
   res.complete = next == displacements_mm.size();
+  st.usable = res.complete;
+  res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+FeResult solve(const FeModel& model, const std::vector<double>& displacements_mm) {
+  return solve(model, displacements_mm, {});
+}
+
+FeResult solve(const FeModel& model, const std::vector<double>& displacements_mm,
+               const std::function<void(double)>& on_increment) {
+  check_inputs(model, displacements_mm);
+  const auto t0 = std::chrono::steady_clock::now();
+  FeResult res = PinCompression(model).advance(displacements_mm, on_increment);
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
 }

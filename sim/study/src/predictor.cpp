@@ -4,6 +4,9 @@
 #include "tocd/sim/study/predictor.hpp"
 
 #include <cmath>
+#include <map>
+#include <mutex>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -84,7 +87,37 @@ std::string fe_key(const PredictionRequest& r) {
   if (r.fe_bottom != fe::Bottom::bonded) k["bottom"] = fe::to_string(r.fe_bottom);
   if (r.compressed_log_strain != -0.5) k["threshold"] = r.compressed_log_strain;
   if (r.fe_outer_radius_mm > 0) k["R"] = r.fe_outer_radius_mm;
+  if (!r.fe_path_mm.empty()) k["path"] = r.fe_path_mm;
   return k.dump();
+}
+
+// The FE model of a request whatever its displacement and path: the key of its loading path.
+std::string fe_model_key(const PredictionRequest& r) {
+  PredictionRequest m = r;
+  m.displacement_mm = 0;
+  m.fe_path_mm.clear();
+  return fe_key(m);
+}
+
+// A run's loading path, solved as far as its last predicted step. The next step of the run
+// (its request's fe_path_mm is this path) goes on from here instead of from first touch.
+struct LoadingPath {
+  std::mutex mutex;
+  std::optional<fe::PinCompression> fe;
+};
+
+// The pin compression of `r` along its fe_path_mm to its displacement: from where `path` is
+// when that is the request's path, otherwise solved afresh along it (the same bits either way:
+// fe::PinCompression). `path` then ends at the request's displacement.
+fe::FeResult solve_along(const PredictionRequest& r, LoadingPath& path) {
+  auto on_increment = [&r](double) { check_cancel(r, "during the FE solve"); };
+  std::lock_guard lock(path.mutex);
+  if (!path.fe || !path.fe->usable() || path.fe->path_mm() != r.fe_path_mm) {
+    path.fe.emplace(fe_model(r));
+    fe::FeResult earlier = path.fe->advance(r.fe_path_mm, on_increment);
+    if (!earlier.complete) return earlier;
+  }
+  return path.fe->advance({r.displacement_mm}, on_increment);
 }
 
 bool needs_fe(const PredictionRequest& r) {
@@ -147,11 +180,33 @@ struct Predictor::Impl {
   KeyedCache<LayoutEntry> layouts{8};
   KeyedCache<PreparedEntry> prepared{8};
 
+  // A few loading paths at once (a recording has one; the window may hold runs of several).
+  static constexpr std::size_t kLoadingPaths = 4;
+  std::mutex paths_mutex;
+  std::map<std::string, std::shared_ptr<LoadingPath>> paths;
+
+  std::shared_ptr<LoadingPath> loading_path(const PredictionRequest& r) {
+    std::lock_guard lock(paths_mutex);
+    auto& slot = paths[fe_model_key(r)];
+    if (!slot) {
+      slot = std::make_shared<LoadingPath>();
+      if (paths.size() > kLoadingPaths)
+        for (auto it = paths.begin(); it != paths.end(); ++it)
+          if (it->second != slot) {
+            paths.erase(it);
+            break;
+          }
+    }
+    return slot;
+  }
+
   std::shared_ptr<const FeEntry> solve_fe(const PredictionRequest& r, bool& hit) {
     auto got = fe.get_or_compute(fe_key(r), [&] {
       const auto t0 = Clock::now();
-      fe::FeResult res = fe::solve(fe_model(r), {r.displacement_mm},
-                                   [&r](double) { check_cancel(r, "during the FE solve"); });
+      fe::FeResult res = r.fe_path_mm.empty()
+                             ? fe::solve(fe_model(r), {r.displacement_mm},
+                                         [&r](double) { check_cancel(r, "during the FE solve"); })
+                             : solve_along(r, *loading_path(r));
       if (!res.complete || res.steps.empty())
         throw tocd::Error(fmt::format("FE solve to {} mm in {} mm skin stopped: {}", r.displacement_mm,
                                       r.thickness_mm, res.stop_reason));

@@ -73,6 +73,14 @@ void validate(const PredictionRequest& r) {
   require(r.fe_outer_radius_mm == 0.0 || r.fe_outer_radius_mm > r.pin_radius_mm,
           fmt::format("fe_outer_radius_mm {} must be 0 (half the slide) or above the pin radius",
                       r.fe_outer_radius_mm));
+  for (std::size_t k = 0; k < r.fe_path_mm.size(); ++k) {
+    const double d = r.fe_path_mm[k];
+    require(std::isfinite(d) && d > 0.0 && d < r.displacement_mm && (k == 0 || d > r.fe_path_mm[k - 1]),
+            fmt::format("fe_path_mm: {} mm (entry {}) must be above 0, above the entry before it and below "
+                        "displacement_mm {}",
+                        d, k + 1, r.displacement_mm));
+  }
+  require(r.fe_path_mm.empty() || !r.baseline, "fe_path_mm: the glass-only baseline has no FE");
   require(r.slide_n == 0.0 || (r.slide_n >= 1.0 && r.slide_n < 3.0),
           fmt::format("slide_n {} must be 0 (glass) or in [1, 3)", r.slide_n));
   // A mesh too fine to build is refused before the FE (TetGen would run for hours).
@@ -110,6 +118,7 @@ nlohmann::json to_config(const PredictionRequest& r) {
   if (r.compressed_log_strain != -0.5) j["compressed_log_strain"] = r.compressed_log_strain;
   if (r.fe_outer_radius_mm > 0) j["fe_outer_radius_mm"] = r.fe_outer_radius_mm;
   if (r.slide_n > 0) j["slide_n"] = r.slide_n;
+  if (!r.fe_path_mm.empty()) j["fe_path_mm"] = r.fe_path_mm;
   return j;
 }
 
@@ -170,6 +179,7 @@ PredictionRequest request_from_config(const nlohmann::json& j) {
                       "compressed_log_strain",
                       "fe_outer_radius_mm",
                       "slide_n",
+                      "fe_path_mm",
                       "optics"},
                      "prediction config");
   check_kind_and_version(j);
@@ -200,6 +210,7 @@ PredictionRequest request_from_config(const nlohmann::json& j) {
     num("compressed_log_strain", r.compressed_log_strain);
     num("fe_outer_radius_mm", r.fe_outer_radius_mm);
     num("slide_n", r.slide_n);
+    if (j.contains("fe_path_mm")) r.fe_path_mm = j.at("fe_path_mm").get<std::vector<double>>();
   } catch (const nlohmann::json::exception& e) {
     throw tocd::ConfigError(fmt::format("prediction config: {}", e.what()));
   }

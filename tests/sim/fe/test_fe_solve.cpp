@@ -114,3 +114,64 @@ TEST(FeSolve, NonConvergenceGivesAPartialResultThatSaysWhere) {
   EXPECT_NE(r.stop_reason.find("stopped at"), std::string::npos) << r.stop_reason;
   EXPECT_LT(r.steps.size(), 2u);
 }
+
+// A run's steps are one loading path: advancing a compression step by step must be the one
+// solve over all of them, to the bit (same increments, step sizes and predictor), so that a
+// prediction that continued from the previous step is reproduced from its stored path.
+TEST(PinCompression, AdvancingStepByStepIsTheOneSolveOverThePathBitForBit) {
+  const auto& whole = published();
+  ASSERT_TRUE(whole.complete) << whole.stop_reason;
+  fe::PinCompression c(fe::FeModel::published_default());
+  const fe::FeResult first = c.advance({0.625});
+  const fe::FeResult rest = c.advance({1.25, 1.5});
+  ASSERT_TRUE(first.complete && rest.complete) << first.stop_reason << rest.stop_reason;
+  std::vector<fe::FeStepResult> stepped = first.steps;
+  stepped.insert(stepped.end(), rest.steps.begin(), rest.steps.end());
+  ASSERT_EQ(stepped.size(), whole.steps.size());
+  for (std::size_t k = 0; k < stepped.size(); ++k) {
+    SCOPED_TRACE(k);
+    EXPECT_EQ(stepped[k].force_N, whole.steps[k].force_N);
+    EXPECT_EQ(stepped[k].newton_iterations, whole.steps[k].newton_iterations);
+    EXPECT_EQ(stepped[k].load_increments, whole.steps[k].load_increments);
+    ASSERT_EQ(stepped[k].displacement.size(), whole.steps[k].displacement.size());
+    for (std::size_t n = 0; n < stepped[k].displacement.size(); ++n) {
+      EXPECT_EQ(stepped[k].displacement[n].r_mm, whole.steps[k].displacement[n].r_mm);
+      EXPECT_EQ(stepped[k].displacement[n].z_mm, whole.steps[k].displacement[n].z_mm);
+    }
+  }
+  EXPECT_EQ(c.path_mm(), (std::vector<double>{0.625, 1.25, 1.5}));
+  EXPECT_EQ(first.total_load_increments + rest.total_load_increments, whole.total_load_increments);
+}
+
+// The path's end state is the elastic solution at 1.5 mm whichever way it came: a hyperelastic
+// pin compression has no history. What differs is the contact's enforcement: each path stops
+// augmenting once the penetration is below the tolerance (1e-3 of the displacement,
+// FeSolverSettings), so the two may end with penetrations up to 1.5e-3 mm apart, and the force
+// by that times its slope, d ln F / d d, taken from the published steps at 1.25 and 1.5 mm.
+TEST(PinCompression, TheSteppedPathEndsWhereASolveFromFirstTouchEnds) {
+  const fe::FeResult direct = fe::solve(fe::FeModel::published_default(), {1.5});
+  ASSERT_TRUE(direct.complete) << direct.stop_reason;
+  const auto& steps = published().steps;
+  const double log_slope = std::log(steps[2].force_N / steps[1].force_N) / (1.5 - 1.25);
+  const double penetration_span = fe::FeSolverSettings{}.penetration_tolerance * 1.5;
+  EXPECT_NEAR(steps.back().force_N / direct.steps.back().force_N, 1.0, log_slope * penetration_span);
+  EXPECT_NEAR(steps.back().contact_radius_mm, direct.steps.back().contact_radius_mm, 0.05);
+}
+
+TEST(PinCompression, APathGoesForwardAndAStoppedOneNoFurther) {
+  fe::PinCompression c(fe::FeModel::published_default());
+  ASSERT_TRUE(c.advance({0.25}).complete);
+  EXPECT_THROW(c.advance({0.25}), fe::FeError);  // not beyond where the path is
+  EXPECT_THROW(c.advance({0.1}), fe::FeError);
+  EXPECT_THROW(c.advance({2.6}), fe::FeError);  // beyond the slab
+  EXPECT_TRUE(c.usable()) << "a refused advance leaves the path as it was";
+  EXPECT_TRUE(c.advance({0.5}).complete);
+
+  fe::FeModel m = fe::FeModel::published_default();
+  m.solver.max_newton_iterations = 2;
+  m.solver.min_step_mm = 0.01;
+  fe::PinCompression stuck(m);
+  EXPECT_FALSE(stuck.advance({0.3}).complete);
+  EXPECT_FALSE(stuck.usable());
+  EXPECT_THROW(stuck.advance({0.6}), fe::FeError);
+}

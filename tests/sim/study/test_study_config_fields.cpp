@@ -60,6 +60,8 @@ TEST(PredictionConfigFields, EachEditedFieldChangesTheResultOrIsRefused) {
       {"compressed_log_strain", [](json& j) { j["compressed_log_strain"] = -0.3; }},
       {"fe_outer_radius_mm", [](json& j) { j["fe_outer_radius_mm"] = 5.0; }},
       {"slide_n", [](json& j) { j["slide_n"] = 1.6; }},
+      // The FE goes through 0.5 mm on its way to the step: another path, other increments.
+      {"fe_path_mm", [](json& j) { j["fe_path_mm"] = json::array({0.5}); }},
   };
   const json canonical = st::to_config(base_request());
   // Every field the config writes has an edit here (kind and version are refused when wrong,

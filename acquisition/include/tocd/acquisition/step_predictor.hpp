@@ -40,6 +40,11 @@ db::PredictionRecord prediction_record(std::int64_t run_id, int step_index, cons
 class StepPredictor {
  public:
   virtual ~StepPredictor() = default;
+  /// A run of a sample `thickness_mm` thick starts recording steps: a predictor may begin what
+  /// every step needs (the simulator's glass-only baseline), so that the first step's
+  /// prediction does not wait for it. Called once per run, on the prediction thread, before
+  /// the first predict().
+  virtual void prepare(double thickness_mm) { (void)thickness_mm; }
   virtual std::future<PredictedStep> predict(const RecordedStep& step) = 0;
   /// Stops every prediction asked for so far, and every later one, as soon as it can (an
   /// operator's abort, a signal): their futures then hold a tocd::Cancelled. Called from any

@@ -7,6 +7,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "tocd/acquisition/step_predictor.hpp"
 #include "tocd/sim/study/predictor.hpp"
@@ -34,10 +35,18 @@ void validate(const SimPredictorSettings& settings);
 /// The measured transmission of a step is power / glass-only baseline power, so the predicted
 /// value is the same ratio: T(step) / T(glass-only baseline geometry), both from the Monte
 /// Carlo, with the standard error propagated from both (independent seeds). The baseline is
-/// simulated once, on first use, and shared by every step.
+/// simulated once, from prepare() (the run's start) or else the first step, and shared by
+/// every step.
+///
+/// A run's steps are one loading path while the pin only goes deeper: each step's FE goes on
+/// from the previous step's (PredictionRequest::fe_path_mm, the displacements of the run's
+/// earlier steps in contact since the pin last went back), so a deep step's FE costs the way
+/// from the step before, not from first touch. Steps must come in the order they were
+/// recorded, as the engine hands them over.
 class SimStepPredictor : public acquisition::StepPredictor {
  public:
   SimStepPredictor(std::shared_ptr<sim::study::Predictor> predictor, SimPredictorSettings settings);
+  void prepare(double thickness_mm) override;
   std::future<acquisition::PredictedStep> predict(const acquisition::RecordedStep& step) override;
   void cancel() noexcept override;
 
@@ -46,12 +55,16 @@ class SimStepPredictor : public acquisition::StepPredictor {
 
  private:
   std::shared_future<sim::study::Prediction> baseline(double thickness_mm);
+  /// The loading path before `step` (its fe_path_mm), and `step` appended to the run's path.
+  std::vector<double> path_before(const acquisition::RecordedStep& step);
 
   std::shared_ptr<sim::study::Predictor> predictor_;
   SimPredictorSettings settings_;
   std::shared_ptr<std::atomic<bool>> cancel_ = std::make_shared<std::atomic<bool>>(false);
   std::mutex mutex_;
   std::optional<std::shared_future<sim::study::Prediction>> baseline_;
+  std::vector<double> path_;  ///< displacements of the run's steps on the current loading path
+  double path_thickness_mm_ = 0;
 };
 
 /// The simulator's predictor of a recording's steps, as every front end hands it to the lab

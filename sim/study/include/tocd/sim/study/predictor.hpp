@@ -59,7 +59,13 @@ struct PredictionRequest {
   fe::Bottom fe_bottom = fe::Bottom::bonded;
   double compressed_log_strain = -0.5;  ///< threshold of the compressed region (FeModel)
   double fe_outer_radius_mm = 0;        ///< FE sample half width; 0 = half the slide size
-  double slide_n = 0;                   ///< refractive index of the slide; 0 = the glass of the model note
+  /// The loading path this step's FE continues: the displacements (ascending, each above 0 and
+  /// below displacement_mm) the pin went through before it, as a run's earlier steps. The FE
+  /// solves through them to displacement_mm (fe::PinCompression); a predictor that solved the
+  /// path already goes on from its end. Empty: solved from first touch. In the config when not
+  /// empty, so a stored prediction is reproduced along the same path, to the bit.
+  std::vector<double> fe_path_mm;
+  double slide_n = 0;  ///< refractive index of the slide; 0 = the glass of the model note
   /// When not empty: per-tet fluence .vtu and two slice CSVs go to this folder, named
   /// `fluence_stem` (default "prediction"). Not part of the config.
   std::string fluence_dir, fluence_stem;
