@@ -1,6 +1,8 @@
 // The adapter from recorded steps to the FE + mesh + Monte Carlo predictor.
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <memory>
 #include <thread>
 #include <vector>
 
@@ -15,6 +17,24 @@ namespace an = tocd::analysis;
 
 namespace {
 
+an::SimPredictorSettings settings_of(std::uint64_t photons, std::uint64_t seed) {
+  an::SimPredictorSettings s;
+  s.photons = photons;
+  s.seed = seed;
+  return s;
+}
+
+/// A step predictor over a study predictor of its own (one worker), whose caches a test reads,
+/// and a step of a 2 mm sample.
+struct Predictors {
+  Predictors(std::uint64_t photons, std::uint64_t seed) : steps(study, settings_of(photons, seed)) {
+    step.thickness_mm = 2.0;
+  }
+  std::shared_ptr<tocd::sim::study::Predictor> study = std::make_shared<tocd::sim::study::Predictor>(1);
+  an::SimStepPredictor steps;
+  acq::RecordedStep step;
+};
+
 TEST(SimStepPredictorMath, RatioAndPropagatedError) {
   const auto r = an::relative_to_baseline(0.2, 0.002, 0.4, 0.004);
   EXPECT_DOUBLE_EQ(r.T, 0.5);
@@ -24,14 +44,9 @@ TEST(SimStepPredictorMath, RatioAndPropagatedError) {
 }
 
 TEST(SimStepPredictor, PredictsRelativeToTheGlassOnlyBaseline) {
-  an::SimPredictorSettings s;
-  s.photons = 6000;
-  s.seed = 3;
-  auto study = std::make_shared<tocd::sim::study::Predictor>(1);
-  an::SimStepPredictor p(study, s);
-  acq::RecordedStep step;
+  Predictors predictors(6000, 3);
+  auto& [study, p, step] = predictors;
   step.displacement_mm = 0.75;
-  step.thickness_mm = 2.0;
   const acq::PredictedStep a = p.predict(step).get();
   const auto cfg = nlohmann::json::parse(a.config_json);
   const auto summary = nlohmann::json::parse(a.summary_json);
@@ -66,13 +81,8 @@ TEST(SimStepPredictor, PredictsRelativeToTheGlassOnlyBaseline) {
 // step before (its config names the path), a step the pin went back to starts again from first
 // touch, and a stored config re-run on a predictor that never saw the run gives the same bits.
 TEST(SimStepPredictor, EachStepGoesOnFromThePreviousOneAndItsConfigReproducesIt) {
-  an::SimPredictorSettings s;
-  s.photons = 4000;
-  s.seed = 5;
-  auto study = std::make_shared<tocd::sim::study::Predictor>(1);
-  an::SimStepPredictor p(study, s);
-  acq::RecordedStep step;
-  step.thickness_mm = 2.0;
+  Predictors predictors(4000, 5);
+  auto& [study, p, step] = predictors;
   p.prepare(step.thickness_mm);  // the glass-only baseline starts before any step
   for (int waited = 0; study->cache_counts().mesh_misses == 0 && waited < 600; ++waited)
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
