@@ -202,6 +202,7 @@ void check_stability(const tocd::sim::material::OgdenLaw& law, const FeModel& mo
 }  // namespace
 
 // The model and law live here, at fixed addresses, because the solver keeps references to them.
+// The model is validated before the solver builds its mesh from it.
 struct PinCompression::State {
   explicit State(FeModel m)
       : model(std::move(m)), law(model.material), solver((model.validate(), model), law) {}
