@@ -28,7 +28,8 @@ LEFT JOIN predictions p ON p.run_id = s.run_id AND p.step_index = s.step_index
 WHERE s.run_id = 1 ORDER BY s.step_index
 """
 
-# Readings per recording window of the tester's load channel, as a share of rate x duration.
+# The fewest readings a recording window held, over every channel with a nominal rate, as a
+# share of rate x window.
 READINGS = """
 SELECT MIN(st.n / (c.nominal_rate_Hz * (s.recorded_to_t_ns - s.recorded_from_t_ns) / 1e9))
 FROM steps s JOIN step_channel_stats st ON st.step_id = s.id JOIN channels c ON c.id = st.channel_id

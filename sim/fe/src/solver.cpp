@@ -171,10 +171,13 @@ class Solver {
 
 namespace {
 
-using pin_solver::Solver;
-
-void check_inputs(const FeModel& model, const std::vector<double>& d) {
+FeModel validated(FeModel model) {
   model.validate();
+  return model;
+}
+
+// The displacements an advance is asked for, against the model's thickness (validated already).
+void check_displacements(const FeModel& model, const std::vector<double>& d) {
   if (d.empty()) throw FeError("FE solve: no displacements requested");
   for (std::size_t k = 0; k < d.size(); ++k) {
     if (!(d[k] > 0) || !std::isfinite(d[k]))
@@ -202,10 +205,9 @@ void check_stability(const tocd::sim::material::OgdenLaw& law, const FeModel& mo
 }  // namespace
 
 // The model and law live here, at fixed addresses, because the solver keeps references to them.
-// The model is validated before the solver builds its mesh from it.
+// The model is validated first, before the law or the solver's mesh is made from it.
 struct PinCompression::State {
-  explicit State(FeModel m)
-      : model(std::move(m)), law(model.material), solver((model.validate(), model), law) {}
+  explicit State(FeModel m) : model(validated(std::move(m))), law(model.material), solver(model, law) {}
   FeModel model;
   tocd::sim::material::OgdenLaw law;
   pin_solver::Solver solver;
@@ -231,7 +233,7 @@ FeResult PinCompression::advance(const std::vector<double>& displacements_mm,
                                  const std::function<void(double)>& on_increment) {
   State& st = *state_;
   if (!st.usable) throw FeError("FE solve: this compression stopped earlier and cannot go on");
-  check_inputs(st.model, displacements_mm);
+  check_displacements(st.model, displacements_mm);
   if (!st.path.empty() && !(displacements_mm.front() > st.path.back()))
     throw FeError(fmt::format("FE solve: displacement {} mm does not go on from {} mm, where the path is",
                               displacements_mm.front(), st.path.back()));
@@ -300,7 +302,6 @@ FeResult solve(const FeModel& model, const std::vector<double>& displacements_mm
 
 FeResult solve(const FeModel& model, const std::vector<double>& displacements_mm,
                const std::function<void(double)>& on_increment) {
-  check_inputs(model, displacements_mm);
   const auto t0 = std::chrono::steady_clock::now();
   FeResult res = PinCompression(model).advance(displacements_mm, on_increment);
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

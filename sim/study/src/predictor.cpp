@@ -109,8 +109,8 @@ struct LoadingPath {
 // The pin compression of `r` along its fe_path_mm to its displacement: from where `path` is
 // when that is the request's path, otherwise solved afresh along it (the same bits either way:
 // fe::PinCompression). `path` then ends at the request's displacement.
-fe::FeResult solve_along(const PredictionRequest& r, LoadingPath& path) {
-  auto on_increment = [&r](double) { check_cancel(r, "during the FE solve"); };
+fe::FeResult solve_along(const PredictionRequest& r, LoadingPath& path,
+                         const std::function<void(double)>& on_increment) {
   std::lock_guard lock(path.mutex);
   if (!path.fe || !path.fe->usable() || path.fe->path_mm() != r.fe_path_mm) {
     path.fe.emplace(fe_model(r));
@@ -203,10 +203,9 @@ struct Predictor::Impl {
   std::shared_ptr<const FeEntry> solve_fe(const PredictionRequest& r, bool& hit) {
     auto got = fe.get_or_compute(fe_key(r), [&] {
       const auto t0 = Clock::now();
-      fe::FeResult res = r.fe_path_mm.empty()
-                             ? fe::solve(fe_model(r), {r.displacement_mm},
-                                         [&r](double) { check_cancel(r, "during the FE solve"); })
-                             : solve_along(r, *loading_path(r));
+      const auto on_increment = [&r](double) { check_cancel(r, "during the FE solve"); };
+      fe::FeResult res = r.fe_path_mm.empty() ? fe::solve(fe_model(r), {r.displacement_mm}, on_increment)
+                                              : solve_along(r, *loading_path(r), on_increment);
       if (!res.complete || res.steps.empty())
         throw tocd::Error(fmt::format("FE solve to {} mm in {} mm skin stopped: {}", r.displacement_mm,
                                       r.thickness_mm, res.stop_reason));

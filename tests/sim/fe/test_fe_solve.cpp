@@ -174,6 +174,10 @@ TEST(PinCompression, APathGoesForwardAndAStoppedOneNoFurther) {
   EXPECT_TRUE(c.usable()) << "a refused advance leaves the path as it was";
   EXPECT_TRUE(c.advance({0.5}).complete);
 
+  fe::FeModel no_bulk = coarse_model();
+  no_bulk.material.D = {0.0, 0.0, 0.0};
+  EXPECT_THROW(fe::PinCompression{no_bulk}, fe::FeError) << "the model's own error, as solve() gives";
+
   fe::FeModel m = coarse_model();
   m.solver.max_newton_iterations = 2;
   m.solver.min_step_mm = 0.01;
