@@ -2,10 +2,7 @@
 
 #include <chrono>
 #include <cmath>
-#include <future>
-#include <memory>
 #include <numbers>
-#include <thread>
 
 #include <fmt/format.h>
 
@@ -13,7 +10,6 @@
 #include "plc.hpp"
 #include "region_classifier.hpp"
 #include "tetgen_mesher.hpp"
-#include "tocd/core/error.hpp"
 
 namespace tocd::sim::geometry {
 
@@ -45,37 +41,6 @@ std::string switches_for(const ResolvedSize& size) {
 
 }  // namespace
 
-namespace {
-
-/// TetGen on the calling thread, or with `cancel` on a thread of its own that the caller
-/// stops waiting for once the flag is set (TetGen has no way to be interrupted). The thread
-/// owns copies of its inputs and its result, so abandoning it touches nothing of the caller.
-mesh::TetMesh tetrahedralize_cancellable(const detail::Plc& plc, const detail::Section& section,
-                                         const std::string& switches, const std::atomic<bool>* cancel) {
-  if (!cancel) return detail::tetrahedralize(plc, section, switches);
-  struct Job {
-    detail::Plc plc;
-    detail::Section section;
-    std::string switches;
-    std::promise<mesh::TetMesh> result;
-  };
-  auto job = std::make_shared<Job>(Job{plc, section, switches, {}});
-  std::future<mesh::TetMesh> done = job->result.get_future();
-  std::thread([job] {
-    try {
-      job->result.set_value(detail::tetrahedralize(job->plc, job->section, job->switches));
-    } catch (...) {
-      job->result.set_exception(std::current_exception());
-    }
-  }).detach();
-  while (done.wait_for(std::chrono::milliseconds(20)) != std::future_status::ready) {
-    if (cancel->load()) throw tocd::Cancelled("prediction cancelled while TetGen was meshing");
-  }
-  return done.get();
-}
-
-}  // namespace
-
 CompositeMesh build_composite(const CompositeSpec& spec, const std::atomic<bool>* cancel) {
   const auto t0 = std::chrono::steady_clock::now();
   check_mesh_size(spec);
@@ -85,7 +50,7 @@ CompositeMesh build_composite(const CompositeSpec& spec, const std::atomic<bool>
       detail::build_layout(spec, result.size.section_edge_mm, result.size.tip_edge_mm);
   const detail::Plc plc = detail::build_plc(layout, result.size.azimuth_segments);
   result.tetgen_switches = switches_for(result.size);
-  result.mesh = tetrahedralize_cancellable(plc, layout.section, result.tetgen_switches, cancel);
+  result.mesh = detail::tetrahedralize(plc, layout.section, result.tetgen_switches, cancel);
   detail::assign_regions(result.mesh, layout, result.size.azimuth_segments);
   result.contact_radius_mm = layout.contact_radius_mm;
 

@@ -1,14 +1,25 @@
 #include "tetgen_mesher.hpp"
 
+#include <array>
+#include <atomic>
+#include <cerrno>
+#include <csignal>
+#include <cstdint>
+#include <cstring>
+#include <optional>
 #include <set>
 #include <string>
+#include <type_traits>
 #include <vector>
 
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <poll.h>
 #include <sys/wait.h>
 #include <tetgen.h>
 #include <unistd.h>
 
+#include "tocd/core/error.hpp"
 #include "tocd/sim/geometry/composite.hpp"
 
 namespace tocd::sim::geometry::detail {
@@ -137,49 +148,197 @@ std::string surfaces_at_fault(const Plc& plc, const Section& section) {
                   names.empty() ? std::string{} : fmt::format(" (surfaces involved: {})", names)));
 }
 
-}  // namespace
+/// TetGen's output as the meshing child sends it: counts, then the arrays, in this order.
+struct MeshOutput {
+  std::vector<double> points;     // x y z per node
+  std::vector<int> tets;          // 4 nodes per tet
+  std::vector<double> region;     // the tet's region attribute (empty: none)
+  std::vector<int> faces;         // 3 nodes per boundary face
+  std::vector<int> face_markers;  // the face's facet marker (empty: none)
+};
 
-tocd::sim::mesh::TetMesh tetrahedralize(const Plc& plc, const Section& section, const std::string& switches) {
-  tetgenio in, out;
-  fill_input(plc, in);
-  // z: 0-based output; A: region attributes from the seeds.
-  std::string sw = switches + "zA";
-  std::vector<char> buffer(sw.begin(), sw.end());
-  buffer.push_back('\0');
-  // Surface recovery is where a bad complex fails; it is cheap next to the refinement.
-  if (const int code = probe(plc, "pzQ", -1); code != 0) reject(code, plc, section);
-  try {
-    ::tetrahedralize(buffer.data(), &in, &out);
-  } catch (int code) {
-    reject(code, plc, section);
+/// Writes all of `bytes` to `fd`; false when the reader is gone.
+bool write_all(int fd, const void* bytes, std::size_t n) {
+  const char* p = static_cast<const char*>(bytes);
+  while (n > 0) {
+    const ssize_t w = write(fd, p, n);
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) return false;
+    p += w;
+    n -= static_cast<std::size_t>(w);
   }
+  return true;
+}
+
+/// The child's side: TetGen's output arrays behind a header of their lengths.
+bool send_output(int fd, const tetgenio& out) {
+  const int attributes = out.numberoftetrahedronattributes;
+  const std::array<std::int64_t, 5> lengths = {
+      3 * std::int64_t{out.numberofpoints}, 4 * std::int64_t{out.numberoftetrahedra},
+      attributes > 0 ? std::int64_t{out.numberoftetrahedra} : 0, 3 * std::int64_t{out.numberoftrifaces},
+      out.trifacemarkerlist ? std::int64_t{out.numberoftrifaces} : 0};
+  std::vector<int> tets(static_cast<std::size_t>(lengths[1]));
+  for (std::size_t t = 0; t < tets.size() / 4; ++t)
+    for (std::size_t k = 0; k < 4; ++k)
+      tets[4 * t + k] = out.tetrahedronlist[static_cast<std::size_t>(out.numberofcorners) * t + k];
+  std::vector<double> region(static_cast<std::size_t>(lengths[2]));
+  for (std::size_t t = 0; t < region.size(); ++t)
+    region[t] = out.tetrahedronattributelist[static_cast<std::size_t>(attributes) * t];
+  return write_all(fd, lengths.data(), sizeof lengths) &&
+         write_all(fd, out.pointlist, static_cast<std::size_t>(lengths[0]) * sizeof(double)) &&
+         write_all(fd, tets.data(), tets.size() * sizeof(int)) &&
+         write_all(fd, region.data(), region.size() * sizeof(double)) &&
+         write_all(fd, out.trifacelist, static_cast<std::size_t>(lengths[3]) * sizeof(int)) &&
+         write_all(fd, out.trifacemarkerlist, static_cast<std::size_t>(lengths[4]) * sizeof(int));
+}
+
+/// The parent's side: the arrays back from what the child sent, or nullopt when it sent
+/// less or other than its header announced (a child that died while writing).
+std::optional<MeshOutput> parse_output(const std::vector<char>& bytes) {
+  std::array<std::int64_t, 5> lengths{};
+  if (bytes.size() < sizeof lengths) return std::nullopt;
+  std::memcpy(lengths.data(), bytes.data(), sizeof lengths);
+  std::size_t at = sizeof lengths;
+  bool whole = true;
+  auto take = [&](auto& v, std::int64_t n) {
+    using T = typename std::remove_reference_t<decltype(v)>::value_type;
+    if (!whole || n < 0 || static_cast<std::size_t>(n) > (bytes.size() - at) / sizeof(T)) {
+      whole = false;
+      return;
+    }
+    v.resize(static_cast<std::size_t>(n));
+    std::memcpy(v.data(), bytes.data() + at, v.size() * sizeof(T));
+    at += v.size() * sizeof(T);
+  };
+  MeshOutput o;
+  take(o.points, lengths[0]);
+  take(o.tets, lengths[1]);
+  take(o.region, lengths[2]);
+  take(o.faces, lengths[3]);
+  take(o.face_markers, lengths[4]);
+  if (!whole || at != bytes.size()) return std::nullopt;
+  return o;
+}
+
+struct ChildOutcome {
+  int code = 0;  // TetGen's error code; -1: the child crashed or sent a broken answer
+  MeshOutput output;
+};
+
+/// Meshes in a child process and reads the mesh back through a pipe. Debian's libtet 1.5
+/// frees its pools twice on its error path and crashes instead of throwing, so TetGen never
+/// runs in this process; and TetGen has no way to be interrupted, so `cancel` kills the
+/// child, which takes its memory and its core with it. One TetGen run per mesh: a bad
+/// complex is told by the child's exit code, not by a second surface-recovery run before.
+ChildOutcome mesh_in_child(const Plc& plc, const std::string& switches, const std::atomic<bool>* cancel) {
+  int fds[2];
+  if (pipe2(fds, O_CLOEXEC) != 0)
+    throw GeometryError(fmt::format("TetGen: cannot open a pipe to its process: {}", std::strerror(errno)));
+  const pid_t pid = fork();
+  if (pid < 0) {
+    close(fds[0]);
+    close(fds[1]);
+    throw GeometryError(fmt::format("TetGen: cannot start its process: {}", std::strerror(errno)));
+  }
+  if (pid == 0) {
+    close(fds[0]);
+    int code = 0;
+    try {
+      tetgenio in, out;
+      fill_input(plc, in);
+      std::vector<char> sw(switches.begin(), switches.end());
+      sw.push_back('\0');
+      ::tetrahedralize(sw.data(), &in, &out);
+      if (!send_output(fds[1], out)) code = 2;
+    } catch (int c) {
+      code = c == 0 ? 2 : c;
+    } catch (...) {
+      code = 2;
+    }
+    _exit(code);
+  }
+  close(fds[1]);
+  // Reads until end of file; an end that never comes (another thread's child inherited the
+  // write end while it was open) is ended by this child's exit, seen between polls.
+  std::vector<char> bytes;
+  std::array<char, 1 << 16> chunk{};
+  bool exited = false;
+  int status = 0;
+  for (;;) {
+    if (cancel && cancel->load()) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      close(fds[0]);
+      throw tocd::Cancelled("prediction cancelled while TetGen was meshing");
+    }
+    pollfd waiting{fds[0], POLLIN, 0};
+    const int ready = poll(&waiting, 1, 20);
+    if (ready > 0) {
+      const ssize_t got = read(fds[0], chunk.data(), chunk.size());
+      if (got > 0) {
+        bytes.insert(bytes.end(), chunk.data(), chunk.data() + got);
+        continue;
+      }
+      if (got == 0) break;
+      if (errno == EINTR || errno == EAGAIN) continue;
+      break;
+    }
+    if (ready < 0 && errno != EINTR) break;
+    if (exited) break;  // nothing more came after the child's exit
+    exited = waitpid(pid, &status, WNOHANG) == pid;
+  }
+  close(fds[0]);
+  if (!exited && waitpid(pid, &status, 0) != pid) status = 0;
+  ChildOutcome outcome;
+  if (!WIFEXITED(status)) {
+    outcome.code = -1;
+    return outcome;
+  }
+  outcome.code = WEXITSTATUS(status);
+  if (outcome.code != 0) return outcome;
+  std::optional<MeshOutput> parsed = parse_output(bytes);
+  if (!parsed) {
+    outcome.code = -1;
+    return outcome;
+  }
+  outcome.output = std::move(*parsed);
+  return outcome;
+}
+
+tocd::sim::mesh::TetMesh to_tet_mesh(const MeshOutput& out, const Section& section) {
   tocd::sim::mesh::TetMesh mesh;
-  mesh.nodes.resize(static_cast<std::size_t>(out.numberofpoints));
+  mesh.nodes.resize(out.points.size() / 3);
   for (std::size_t i = 0; i < mesh.nodes.size(); ++i)
-    mesh.nodes[i] = {out.pointlist[3 * i], out.pointlist[3 * i + 1], out.pointlist[3 * i + 2]};
-  const auto nt = static_cast<std::size_t>(out.numberoftetrahedra);
+    mesh.nodes[i] = {out.points[3 * i], out.points[3 * i + 1], out.points[3 * i + 2]};
+  const std::size_t nt = out.tets.size() / 4;
   mesh.tets.resize(nt);
   mesh.regions.resize(nt);
-  const int stride = out.numberofcorners;
-  const int attributes = out.numberoftetrahedronattributes;
   for (std::size_t t = 0; t < nt; ++t) {
     auto& tet = mesh.tets[t];
-    for (int k = 0; k < 4; ++k) tet[k] = out.tetrahedronlist[stride * t + static_cast<std::size_t>(k)];
+    for (std::size_t k = 0; k < 4; ++k) tet[k] = out.tets[4 * t + k];
     if (tocd::sim::mesh::signed_volume(mesh.nodes[tet[0]], mesh.nodes[tet[1]], mesh.nodes[tet[2]],
                                        mesh.nodes[tet[3]]) < 0)
       std::swap(tet[2], tet[3]);
-    mesh.regions[t] =
-        attributes > 0 ? static_cast<std::int32_t>(out.tetrahedronattributelist[attributes * t]) : 0;
+    mesh.regions[t] = out.region.empty() ? 0 : static_cast<std::int32_t>(out.region[t]);
   }
-  for (int f = 0; f < out.numberoftrifaces; ++f) {
-    const int surface = out.trifacemarkerlist ? out.trifacemarkerlist[f] - 1 : -1;
+  for (std::size_t f = 0; f < out.faces.size() / 3; ++f) {
+    const int surface = out.face_markers.empty() ? -1 : out.face_markers[f] - 1;
     if (surface < 0 || surface >= static_cast<int>(section.surfaces.size())) continue;
     const int marker = section.surfaces[static_cast<std::size_t>(surface)].boundary_marker;
     if (marker <= 0) continue;
-    mesh.boundary_faces.push_back(
-        {{out.trifacelist[3 * f], out.trifacelist[3 * f + 1], out.trifacelist[3 * f + 2]}, marker});
+    mesh.boundary_faces.push_back({{out.faces[3 * f], out.faces[3 * f + 1], out.faces[3 * f + 2]}, marker});
   }
   return mesh;
+}
+
+}  // namespace
+
+tocd::sim::mesh::TetMesh tetrahedralize(const Plc& plc, const Section& section, const std::string& switches,
+                                        const std::atomic<bool>* cancel) {
+  // z: 0-based output; A: region attributes from the seeds.
+  const ChildOutcome outcome = mesh_in_child(plc, switches + "zA", cancel);
+  if (outcome.code != 0) reject(outcome.code, plc, section);
+  return to_tet_mesh(outcome.output, section);
 }
 
 }  // namespace tocd::sim::geometry::detail

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <atomic>
 #include <string>
 
 #include "plc.hpp"
@@ -7,10 +8,13 @@
 
 namespace tocd::sim::geometry::detail {
 
-/// Meshes the complex with TetGen (`switches` without the output-format letters this adds).
+/// Meshes the complex with TetGen (`switches` without the output-format letters this adds),
+/// in a child process (TetGen can neither be interrupted nor trusted on its error path).
 /// Tets carry TetGen's region attribute (the seed's region; a pocket no seed reached gets a
 /// number above them: see assign_regions), boundary faces the marker of their surface. Throws
-/// GeometryError naming the surfaces TetGen found at fault.
-tocd::sim::mesh::TetMesh tetrahedralize(const Plc& plc, const Section& section, const std::string& switches);
+/// GeometryError naming the surfaces TetGen found at fault, and tocd::Cancelled (the child
+/// killed) once `cancel` is set.
+tocd::sim::mesh::TetMesh tetrahedralize(const Plc& plc, const Section& section, const std::string& switches,
+                                        const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace tocd::sim::geometry::detail

@@ -117,9 +117,9 @@ void check_mesh_size(const CompositeSpec& spec);
 /// it with TetGen. Throws GeometryError naming the surface at fault, or the sizes when the
 /// mesh would be too large (check_mesh_size, before anything is built).
 ///
-/// With `cancel`, the build stops with tocd::Cancelled soon after the flag is set: TetGen
-/// itself cannot be interrupted, so it then runs on a thread of its own, on its own copy of
-/// the complex, which is left to finish (or to end with the process) when cancelled.
+/// TetGen runs in a child process (it cannot be interrupted, and Debian's libtet crashes on
+/// its own error path instead of reporting): with `cancel`, the build stops with
+/// tocd::Cancelled within about 20 ms of the flag being set, the child killed.
 CompositeMesh build_composite(const CompositeSpec& spec, const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace tocd::sim::geometry
