@@ -1,5 +1,6 @@
 #include "prediction_queue.hpp"
 
+#include <chrono>
 #include <future>
 #include <utility>
 
@@ -47,10 +48,11 @@ void PredictionQueue::start(std::int64_t run_id, double thickness_mm, std::funct
 
 void PredictionQueue::push(const RecordedStep& step) {
   if (!predictor_) return;
+  const auto received = std::chrono::steady_clock::now();
   {
     std::lock_guard lock(mu_);
     if (closed_) return;
-    queue_.push_back(step);
+    queue_.push_back({step, received});
     ++counts_.asked;
   }
   cv_.notify_all();
@@ -89,9 +91,9 @@ void PredictionQueue::not_landed(const RecordedStep& step, const std::string& wh
 }
 
 void PredictionQueue::run() {
-  std::deque<std::pair<RecordedStep, std::future<PredictedStep>>> pending;
+  std::deque<std::pair<ReceivedStep, std::future<PredictedStep>>> pending;
   for (;;) {
-    std::deque<RecordedStep> fresh;
+    std::deque<ReceivedStep> fresh;
     std::string cancelled;
     {
       std::unique_lock lock(mu_);
@@ -100,29 +102,30 @@ void PredictionQueue::run() {
       if (cancelled_) cancelled = cancel_reason_;
       if (fresh.empty() && pending.empty() && closed_) return;
     }
-    for (const auto& step : fresh) {
+    for (const auto& r : fresh) {
       if (!cancelled.empty()) {
-        not_landed(step, "not predicted: " + cancelled, true);
+        not_landed(r.step, "not predicted: " + cancelled, true);
         continue;
       }
       try {
-        pending.emplace_back(step, predictor_->predict(step));
+        pending.emplace_back(r, predictor_->predict(r.step));
       } catch (const std::exception& e) {
-        not_landed(step, fmt::format("prediction could not start: {}", e.what()), false);
+        not_landed(r.step, fmt::format("prediction could not start: {}", e.what()), false);
       }
     }
     if (pending.empty()) continue;
-    auto& [step, future] = pending.front();
+    auto& [received, future] = pending.front();
+    const RecordedStep& step = received.step;
     if (future.wait_for(std::chrono::milliseconds(20)) != std::future_status::ready) continue;
     try {
-      const PredictedStep p = future.get();
-      store(step, p);
+      const PredictedStep p = store(received, future.get());
       {
         std::lock_guard lock(mu_);
         ++counts_.stored;
       }
-      event_(fmt::format("step {}: predicted T = {:.5f} +- {:.5f} (measured {:.5f}), {:.1f} s",
-                         step.index + 1, p.T, p.T_stderr, step.measured_T, p.seconds),
+      event_(fmt::format("step {}: predicted T = {:.5f} +- {:.5f} (measured {:.5f}), {:.1f} s, "
+                         "stored {:.1f} s after the step was recorded",
+                         step.index + 1, p.T, p.T_stderr, step.measured_T, p.seconds, p.latency_s),
              step.index);
       landed_(step.index, p);
     } catch (const Cancelled& e) {
@@ -140,8 +143,11 @@ void PredictionQueue::run() {
   }
 }
 
-void PredictionQueue::store(const RecordedStep& step, const PredictedStep& p) {
-  db_.add_prediction(prediction_record(run_id_, step.index, p));
+PredictedStep PredictionQueue::store(const ReceivedStep& r, PredictedStep p) {
+  // Taken as the record goes to the database: the insert itself (milliseconds) is left out.
+  p.latency_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - r.received).count();
+  db_.add_prediction(prediction_record(run_id_, r.step.index, p));
+  return p;
 }
 
 db::PredictionRecord prediction_record(std::int64_t run_id, int step_index, const PredictedStep& p) {
@@ -154,6 +160,7 @@ db::PredictionRecord prediction_record(std::int64_t run_id, int step_index, cons
   if (p.fe_seconds >= 0) rec.fe_seconds = p.fe_seconds;
   if (p.mesh_seconds >= 0) rec.mesh_seconds = p.mesh_seconds;
   if (p.mc_seconds >= 0) rec.mc_seconds = p.mc_seconds;
+  if (p.latency_s >= 0) rec.latency_s = p.latency_s;
   rec.total_seconds = p.seconds;
   rec.software_version = std::string(version());
   rec.summary_json = p.summary_json;

@@ -4,6 +4,7 @@
 // stored next to the steps. Its worker runs on its own thread, so a slow simulator never holds
 // up acquisition. It owns its queue, its lock and its thread.
 
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -53,8 +54,15 @@ class PredictionQueue {
   Counts counts() const;
 
  private:
+  /// A step as the queue received it, and when (the start of its prediction's latency).
+  struct ReceivedStep {
+    RecordedStep step;
+    std::chrono::steady_clock::time_point received;
+  };
+
   void run();
-  void store(const RecordedStep& step, const PredictedStep& p);
+  /// Stores `p` as the prediction of `r`; returns it with its latency.
+  PredictedStep store(const ReceivedStep& r, PredictedStep p);
   /// The event and the count of a step whose prediction did not land.
   void not_landed(const RecordedStep& step, const std::string& why, bool cancelled);
 
@@ -68,7 +76,7 @@ class PredictionQueue {
   // closing are dropped, steps pushed after cancelling are reported not predicted.
   mutable std::mutex mu_;
   std::condition_variable cv_;
-  std::deque<RecordedStep> queue_;
+  std::deque<ReceivedStep> queue_;
   bool closed_ = false;
   bool cancelled_ = false;
   std::string cancel_reason_;

@@ -393,13 +393,14 @@ std::int64_t Database::add_prediction(const PredictionRecord& p) {
   Statement s(
       impl_->c,
       "INSERT INTO predictions(run_id, step_index, config_json, T, T_stderr, fe_seconds, mesh_seconds, "
-      "mc_seconds, total_seconds, software_version, summary_json, created_utc_ns) "
-      "VALUES(?,?,?,?,?,?,?,?,?,?,?,?)");
+      "mc_seconds, total_seconds, software_version, summary_json, created_utc_ns, latency_s) "
+      "VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?)");
   s.bind(1, p.run_id).bind(2, p.step_index).bind(3, p.config_json).bind(4, p.T).bind(5, p.T_stderr);
   s.bind(6, p.fe_seconds).bind(7, p.mesh_seconds).bind(8, p.mc_seconds).bind(9, p.total_seconds);
   s.bind(10, p.software_version.empty() ? std::string(tocd::version()) : p.software_version);
   if (!p.summary_json.empty()) s.bind(11, p.summary_json);
-  s.bind(12, p.created_utc_ns != 0 ? p.created_utc_ns : wall_clock_ns()).run();
+  s.bind(12, p.created_utc_ns != 0 ? p.created_utc_ns : wall_clock_ns());
+  s.bind(13, p.latency_s).run();
   return sqlite3_last_insert_rowid(impl_->c.get());
 }
 

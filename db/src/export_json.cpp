@@ -133,6 +133,7 @@ json predictions_json(const Reader& reader, std::int64_t run_id) {
                            {"mesh_seconds", p.mesh_seconds},
                            {"mc_seconds", p.mc_seconds},
                            {"total_seconds", p.total_seconds},
+                           {"latency_s", p.latency_s},
                            {"software_version", p.software_version},
                            {"created_utc", format_utc(p.created_utc_ns)},
                            {"config", parsed_or_text(p.config_json)},

@@ -41,7 +41,7 @@ inline constexpr const char* kEventSelect =
     "SELECT id, t_ns, kind, message, step_index, data_json, segment FROM events";
 inline constexpr const char* kPredictionSelect =
     "SELECT id, step_index, config_json, \"T\", \"T_stderr\", fe_seconds, mesh_seconds, mc_seconds, "
-    "total_seconds, software_version, summary_json, created_utc_ns FROM predictions";
+    "total_seconds, software_version, summary_json, created_utc_ns, latency_s FROM predictions";
 inline constexpr const char* kInstrumentSelect =
     "SELECT id, kind, model, serial, firmware, calibration FROM instruments";
 inline constexpr const char* kSpecimenSelect = "SELECT id, name, tissue, thickness_mm, notes FROM specimens";
@@ -149,6 +149,7 @@ PredictionRecord prediction_from_row(const Row& row, std::int64_t run_id) {
   p.software_version = row.text(9);
   p.summary_json = row.text(10);
   p.created_utc_ns = row.i64(11);
+  p.latency_s = row.f64(12);
   return p;
 }
 

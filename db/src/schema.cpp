@@ -162,6 +162,12 @@ JOIN channels ch ON ch.id = s.channel_id
 JOIN runs r ON r.id = s.run_id
 JOIN run_anchors a ON a.run_id = s.run_id AND a.segment = s.segment;
 )sql",
+    // 3 -> 4: each prediction's latency, real seconds from its step reaching the run's
+    // prediction queue to the prediction being stored. Older predictions were not timed so:
+    // they read NULL (unset), never 0.
+    R"sql(
+ALTER TABLE predictions ADD COLUMN latency_s REAL;
+)sql",
 };
 
 std::string hex(std::int64_t v) {

@@ -1,5 +1,6 @@
 // Opening files: new files get the current schema; foreign, corrupt-looking and newer-schema
 // files are refused with a clear message and left byte-for-byte untouched.
+#include <cmath>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -100,6 +101,48 @@ TEST_F(DbOpen, PartlyInitialisedTocdlabFileIsMigrated) {
   Database db(path);
   EXPECT_EQ(db.schema_version(), Database::kSchemaVersion);
   EXPECT_EQ(db.integrity_check(), "ok");
+}
+
+// A file of schema 3 (made here as this build's file without the column that migration 4
+// adds) is upgraded when opened for writing: predictions.latency_s appears, NULL for the
+// predictions stored before, which read back with the latency unset, never 0.
+TEST_F(DbOpen, SchemaThreeFileGainsPredictionLatencyAsNull) {
+  const auto path = dir_ / "v3.sqlite";
+  std::int64_t run_id = 0;
+  {
+    Database db(path);
+    tocd::db::NewRun nr;
+    nr.protocol_text = "name = \"v3\"\n";
+    run_id = db.create_run(nr).id;
+    tocd::db::PredictionRecord p;
+    p.run_id = run_id;
+    p.config_json = "{}";
+    p.T = 0.4;
+    p.total_seconds = 2.0;
+    db.add_prediction(p);
+  }
+  make_sqlite(path,
+              "ALTER TABLE predictions DROP COLUMN latency_s; PRAGMA user_version = 3; "
+              "UPDATE meta SET value = '3' WHERE key = 'schema_version'");
+  const std::string has_latency =
+      "SELECT count(*) FROM pragma_table_info('predictions') WHERE name = 'latency_s'";
+  ASSERT_EQ(raw_int(path, has_latency), 0);
+  // Readers never migrate: they ask for the upgrade.
+  EXPECT_THAT(tocd::test::error_of<DatabaseError>([&] { tocd::db::Reader r(path); }),
+              HasSubstr("schema version 3"));
+
+  EXPECT_EQ(Database(path).schema_version(), Database::kSchemaVersion);
+  EXPECT_EQ(pragma(path, "user_version"), 4);
+  EXPECT_EQ(raw_int(path, has_latency), 1);
+  EXPECT_EQ(raw_rows(path, "SELECT latency_s FROM predictions"),
+            (std::vector<std::vector<std::string>>{{"NULL"}}));
+  EXPECT_EQ(raw_rows(path, "SELECT value FROM meta WHERE key = 'schema_version'"),
+            (std::vector<std::vector<std::string>>{{"4"}}));
+  const auto preds = tocd::db::Reader(path).predictions(run_id);
+  ASSERT_EQ(preds.size(), 1u);
+  EXPECT_DOUBLE_EQ(preds[0].T, 0.4);
+  EXPECT_DOUBLE_EQ(preds[0].total_seconds, 2.0);
+  EXPECT_TRUE(std::isnan(preds[0].latency_s)) << preds[0].latency_s;
 }
 
 TEST_F(DbOpen, TextFileIsRefusedAndUntouched) {

@@ -145,6 +145,19 @@ TEST_F(DbExport, JsonHoldsTheWholeRun) {
   EXPECT_EQ(j["events"][0]["utc"], tocd::format_utc(run_.wall_anchor_utc_ns + 5'000'000));
 }
 
+TEST_F(DbExport, JsonGivesEachPredictionItsLatencyNullWhenUnset) {
+  PredictionRecord timed = prediction_of(run_.id, 0, "{}", 0.375, 0.01);
+  timed.latency_s = 0.5;
+  Database(path_).add_prediction(timed);
+  std::ostringstream out;
+  write_json(Reader(path_), run_.id, {}, out);
+  const auto j = nlohmann::json::parse(out.str());
+  ASSERT_EQ(j["predictions"].size(), 2u);
+  ASSERT_TRUE(j["predictions"][0].contains("latency_s"));
+  EXPECT_TRUE(j["predictions"][0]["latency_s"].is_null());  // stored without one
+  EXPECT_DOUBLE_EQ(j["predictions"][1]["latency_s"].get<double>(), 0.5);
+}
+
 TEST_F(DbExport, JsonCanDecimateOrOmitSamples) {
   std::ostringstream dec, none;
   write_json(Reader(path_), run_.id, {true, 10, -1}, dec);

@@ -4,6 +4,7 @@
 // Runs only in the *_pg binary (a server of its own, tests/db/with_pg_server).
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <regex>
 #include <thread>
@@ -28,7 +29,8 @@ using tocd::db::testing::prediction_of;
 using tocd::db::testing::TestDatabase;
 using tocd::test::TempDir;
 
-// A finished run with `samples` samples on two channels, steps, events and a prediction.
+// A finished run with `samples` samples on two channels, steps, events and two predictions of
+// its step, the run's own (with its latency) and a later re-prediction (none).
 std::int64_t record_run(Database& db, std::int64_t samples, RunStatus end = RunStatus::completed) {
   NewRun nr;
   nr.name = "pushed";
@@ -50,7 +52,11 @@ std::int64_t record_run(Database& db, std::int64_t samples, RunStatus end = RunS
   st.measured_transmission = 0.5;
   st.channels = {{load.id, 2.0, 0.1, 40}, {power.id, 5e-4, 1e-5, 4}};
   db.add_step(st);
-  db.add_prediction(prediction_of(run.id, 0, R"({"seed":1})", 0.4));
+  PredictionRecord timed = prediction_of(run.id, 0, R"({"seed":1})", 0.4);
+  timed.total_seconds = 1.5;
+  timed.latency_s = 2.25;
+  db.add_prediction(timed);
+  db.add_prediction(prediction_of(run.id, 0, R"({"seed":2})", 0.41));
   if (end != RunStatus::running) db.set_run_status(run.id, end);
   return run.id;
 }
@@ -83,6 +89,16 @@ void expect_server_mirrors(const std::string& file, const std::string& server) {
     EXPECT_EQ(t.predictions, s.predictions);
     EXPECT_EQ(t.run.status, shown_status(s));
     EXPECT_EQ(remote.anchors(t.run.id).size(), local.anchors(s.run.id).size());
+    const auto pa = local.predictions(s.run.id), pb = remote.predictions(t.run.id);
+    ASSERT_EQ(pa.size(), pb.size());
+    for (std::size_t i = 0; i < pa.size(); ++i) {
+      EXPECT_EQ(pa[i].T, pb[i].T);
+      EXPECT_EQ(pa[i].config_json, pb[i].config_json);
+      // An unset time stays unset (NaN), a set one arrives exactly.
+      for (const auto& [x, y] :
+           {std::pair{pa[i].total_seconds, pb[i].total_seconds}, std::pair{pa[i].latency_s, pb[i].latency_s}})
+        EXPECT_TRUE(x == y || (std::isnan(x) && std::isnan(y))) << x << " vs " << y;
+    }
     const auto a = local.compare(s.run.id), b = remote.compare(t.run.id);
     ASSERT_EQ(a.size(), b.size());
     for (std::size_t i = 0; i < a.size(); ++i) {
@@ -215,6 +231,38 @@ TEST_F(DbPush, BadTargetsAreRefusedNamingWhatIsWrong) {
   EXPECT_THAT(push_error(file_, "postgresql://no_such_user@/postgres"),
               HasSubstr("authentication failed for user \"no_such_user\""));
   EXPECT_EQ(tocd::test::read_file(file_), before);  // the file is only read
+}
+
+// A server database of schema 3 (made here as this build's without the column that version 4
+// adds) is upgraded by the next push: the predictions it held read their latency unset, the
+// pushed ones arrive with theirs. A reader only asks for the upgrade.
+TEST_F(DbPush, AServerOfSchemaThreeIsUpgradedByThePush) {
+  {
+    Database server(server_.location());
+    NewRun nr;
+    nr.protocol_text = "name = \"on the server\"\n";
+    const RunRecord run = server.create_run(nr);
+    server.add_prediction(prediction_of(run.id, 0, "{}", 0.3));
+  }
+  server_.exec(
+      "ALTER TABLE predictions DROP COLUMN latency_s; UPDATE meta SET value = '3' WHERE key = "
+      "'schema_version'");
+  try {
+    Reader r(server_.location());
+    ADD_FAILURE() << "a reader opened a server of schema 3";
+  } catch (const DatabaseError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("schema version 3"));
+  }
+  record_local(10);
+  ASSERT_EQ(push_runs(file_, server_.location()).size(), 1u);
+  const Reader r(server_.location());
+  const auto runs = r.runs();
+  ASSERT_EQ(runs.size(), 2u);
+  const auto old = r.predictions(runs[0].run.id);
+  ASSERT_EQ(old.size(), 1u);
+  EXPECT_EQ(old[0].T, 0.3);
+  EXPECT_TRUE(std::isnan(old[0].latency_s)) << old[0].latency_s;
+  expect_server_mirrors(file_, server_.location());
 }
 
 TEST_F(DbPush, AServerDatabaseOfAnotherApplicationIsLeftUntouched) {

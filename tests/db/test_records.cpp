@@ -124,8 +124,26 @@ PredictionRecord first_step_prediction(std::int64_t run) {
           .mesh_seconds = 0.5,
           .mc_seconds = 3.0,
           .total_seconds = 5.0,
+          .latency_s = 7.25,
           .software_version = {},  // this build's
           .summary_json = R"({"tets":12345})"};
+}
+
+// Only a run's own prediction queue measures a latency: a prediction stored without one (a
+// re-prediction, an older tocdlab's) reads back unset, never 0.
+TEST(DbRecords, PredictionLatencyRoundTripsAndUnsetStaysUnset) {
+  TestDatabase dir;
+  Database db(dir.location());
+  const auto run = db.create_run(sample_run());
+  PredictionRecord timed = prediction_of(run.id, 0, "{}", 0.4);
+  timed.latency_s = 0.125;
+  db.add_prediction(timed);
+  db.add_prediction(prediction_of(run.id, 1, "{}", 0.3));
+
+  const auto preds = Reader(dir.location()).predictions(run.id);
+  ASSERT_EQ(preds.size(), 2u);
+  EXPECT_DOUBLE_EQ(preds[0].latency_s, 0.125);
+  EXPECT_TRUE(std::isnan(preds[1].latency_s)) << preds[1].latency_s;
 }
 
 TEST(DbRecords, ChannelsStepsEventsPredictionsRoundTrip) {
@@ -194,6 +212,7 @@ TEST(DbRecords, ChannelsStepsEventsPredictionsRoundTrip) {
   EXPECT_EQ(preds[0].config_json, p.config_json);
   EXPECT_DOUBLE_EQ(preds[0].T_stderr, 0.004);
   EXPECT_DOUBLE_EQ(preds[0].mc_seconds, 3.0);
+  EXPECT_DOUBLE_EQ(preds[0].latency_s, 7.25);
   EXPECT_EQ(preds[0].software_version, std::string(tocd::version()));
   EXPECT_GT(preds[0].created_utc_ns, run.started_utc_ns - 1);
 

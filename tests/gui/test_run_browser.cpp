@@ -6,6 +6,7 @@
 
 #include "backend_db.hpp"
 #include "predicted_run.hpp"
+#include "step_table_model.hpp"
 #include "tocd/db/database.hpp"
 #include "tocd/db/writer.hpp"
 #include "tocd/test/files.hpp"
@@ -14,6 +15,7 @@ using namespace tocd;
 using tocd::gui::RunBrowserBackend;
 using tocd::gui::RunDetails;
 using tocd::gui::RunListing;
+using tocd::gui::StepTableModel;
 using tocd::test::read_file;
 using tocd::test::write_file;
 
@@ -65,8 +67,9 @@ class RunBrowserTest : public QObject {
   std::int64_t run_id_ = 0;
 };
 
-// A small completed run: 3 steps with load statistics, predictions for steps 0 and 2,
-// 1 kHz paired displacement/load samples and an event.
+// A small completed run: 3 steps with load statistics, predictions for steps 0 (made by the
+// run, with its latency) and 2 (made outside it, none), 1 kHz paired displacement/load samples
+// and an event.
 void RunBrowserTest::initTestCase() {
   QVERIFY(dir_.isValid());
   db_path_ = dir_.filePath(QStringLiteral("lab.tocdlab"));
@@ -105,6 +108,7 @@ void RunBrowserTest::initTestCase() {
     p.T = 0.32 + 0.05 * k;
     p.T_stderr = 0.004;
     p.config_json = "{}";
+    if (k == 0) p.latency_s = 2.5;
     database.add_prediction(p);
   }
   db::EventRecord e;
@@ -148,6 +152,15 @@ void RunBrowserTest::lists_and_loads_a_run() {
       QCOMPARE(*r.predicted_T_stderr, compare[i].prediction->T_stderr);
     }
   }
+  // The step table's latency column: the stored latency, empty for a prediction without one,
+  // pending for a step without a prediction.
+  StepTableModel table;
+  table.set_rows(details.rows);
+  const auto latency = [&](int row) { return table.data(table.index(row, StepTableModel::kLatency)); };
+  QCOMPARE(latency(0).toString(), QStringLiteral("2.50"));
+  QCOMPARE(table.data(table.index(0, StepTableModel::kLatency), Qt::UserRole).toDouble(), 2.5);
+  QCOMPARE(latency(1).toString(), QStringLiteral("pending"));
+  QVERIFY(!latency(2).isValid());
   QCOMPARE(details.events.size(), std::size_t{1});
   QCOMPARE(details.events[0].message, QStringLiteral("running"));
   QCOMPARE(details.series.size(), std::size_t{2});

@@ -15,6 +15,7 @@ class StepTableTest : public QObject {
   void prediction_before_step_is_kept();
   void remeasured_step_keeps_its_prediction();
   void display_text_and_raw_values();
+  void latency_column_shows_the_prediction_latency();
 };
 
 namespace {
@@ -92,6 +93,31 @@ void StepTableTest::display_text_and_raw_values() {
   m.upsert_measured(row(1, 0.5, 0.0));
   m.set_prediction(1, 0.1, 0.01);
   QVERIFY(!m.find(1)->relative_difference());
+}
+
+void StepTableTest::latency_column_shows_the_prediction_latency() {
+  StepTableModel m;
+  QVERIFY(StepTableModel::kLatency > StepTableModel::kPredictedErr);  // after the prediction's columns
+  QCOMPARE(m.headerData(StepTableModel::kLatency, Qt::Horizontal).toString(), QStringLiteral("Latency (s)"));
+  QVERIFY(m.headerData(StepTableModel::kLatency, Qt::Horizontal, Qt::ToolTipRole)
+              .toString()
+              .contains(QStringLiteral("recording end")));
+  for (int step = 0; step < 2; ++step) m.upsert_measured(row(step, 0.5, 0.2));
+  const auto latency = [&](int r, int role) { return m.data(m.index(r, StepTableModel::kLatency), role); };
+  QCOMPARE(latency(0, Qt::DisplayRole).toString(), QStringLiteral("pending"));  // no prediction yet
+  m.set_prediction(0, 0.25, 0.01, 2.5);
+  m.set_prediction(1, 0.25, 0.01);  // made outside its run: no latency
+  QCOMPARE(latency(0, Qt::DisplayRole).toString(), QStringLiteral("2.50"));
+  QCOMPARE(latency(0, Qt::UserRole).toDouble(), 2.5);
+  // Empty, neither "pending" nor 0.
+  QVERIFY(!latency(1, Qt::DisplayRole).isValid());
+  QVERIFY(!latency(1, Qt::UserRole).isValid());
+  // A re-measured step keeps it; a prediction that came before its step brings it along.
+  m.upsert_measured(row(0, 0.5, 0.21));
+  QCOMPARE(*m.find(0)->prediction_latency_s, 2.5);
+  m.set_prediction(4, 0.5, 0.02, 0.75);
+  m.upsert_measured(row(4, 1.0, 0.4));
+  QCOMPARE(*m.find(4)->prediction_latency_s, 0.75);
 }
 
 QTEST_GUILESS_MAIN(StepTableTest)

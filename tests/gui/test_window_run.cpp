@@ -174,6 +174,12 @@ void WindowRunTest::demo_run_fills_the_step_table_from_the_engine() {
     QCOMPARE(*r.predicted_T, c.prediction->T);
     QCOMPARE(*r.predicted_T_stderr, c.prediction->T_stderr);
     QCOMPARE(*r.predicted_T, 0.9 * r.measured_T + 0.01);
+    // The latency the run measured, as stored, and shown in its column.
+    QVERIFY(r.prediction_latency_s.has_value());
+    QCOMPARE(*r.prediction_latency_s, c.prediction->latency_s);
+    QVERIFY(*r.prediction_latency_s >= 0.0);
+    QCOMPARE(steps->data(steps->index(static_cast<int>(i), StepTableModel::kLatency)).toString(),
+             QString::number(c.prediction->latency_s, 'f', 2));
   }
   // Deeper steps carry more load.
   QVERIFY(steps->rows()[2].load_N > steps->rows()[0].load_N);

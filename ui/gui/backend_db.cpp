@@ -45,6 +45,7 @@ std::vector<StepRow> step_rows(const std::vector<db::CompareRow>& compare,
     if (c.prediction) {
       r.predicted_T = c.prediction->T;
       r.predicted_T_stderr = c.prediction->T_stderr;
+      if (!std::isnan(c.prediction->latency_s)) r.prediction_latency_s = c.prediction->latency_s;
     }
     rows.push_back(r);
   }

@@ -136,9 +136,9 @@ void RunBackend::on_step_recorded(const acquisition::StepResult& s) {
 }
 
 void RunBackend::on_prediction(int step_index, const acquisition::PredictedStep& p) {
-  const double T = p.T, err = p.T_stderr;
+  const double T = p.T, err = p.T_stderr, latency = p.latency_s;
   QMetaObject::invokeMethod(
-      this, [this, step_index, T, err] { emit prediction_arrived(step_index, T, err); },
+      this, [this, step_index, T, err, latency] { emit prediction_arrived(step_index, T, err, latency); },
       Qt::QueuedConnection);
 }
 

@@ -68,7 +68,8 @@ class RunBackend : public QObject, private acquisition::EngineObserver {
   void started(qint64 run_id, int step_count);
   void live_readings(const std::vector<tocd::gui::LiveReading>& readings);
   void step_recorded(const tocd::gui::RecordedStepView& step);
-  void prediction_arrived(int step_index, double T, double T_stderr);
+  /// `latency_s`: seconds from the step's recording end to the prediction being stored.
+  void prediction_arrived(int step_index, double T, double T_stderr, double latency_s);
   void event_recorded(const QString& kind, const QString& message, int step_index);
   void state_changed(tocd::acquisition::EngineState state, const QString& why);
   void progress(const tocd::acquisition::Progress& progress);

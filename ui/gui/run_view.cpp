@@ -31,7 +31,8 @@ StepRow measured_row(const RecordedStepView& s) {
           .load_N = s.load_N,
           .measured_T = s.measured_T,
           .predicted_T = std::nullopt,  // the prediction comes on its own, later
-          .predicted_T_stderr = std::nullopt};
+          .predicted_T_stderr = std::nullopt,
+          .prediction_latency_s = std::nullopt};
 }
 
 }  // namespace
@@ -141,8 +142,8 @@ void RunView::add_step(const RecordedStepView& s) {
   progress_->setValue(std::min(progress_->maximum(), s.index + 1));
 }
 
-void RunView::add_prediction(int step_index, double T, double T_stderr) {
-  steps_->set_prediction(step_index, T, T_stderr);
+void RunView::add_prediction(int step_index, double T, double T_stderr, double latency_s) {
+  steps_->set_prediction(step_index, T, T_stderr, latency_s >= 0 ? std::optional(latency_s) : std::nullopt);
   const auto it = strain_of_step_.find(step_index);
   if (it != strain_of_step_.end()) comparison_->set_predicted(step_index, it->second, T, T_stderr);
 }

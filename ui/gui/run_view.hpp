@@ -31,7 +31,8 @@ class RunView : public QWidget {
   void begin_run(qint64 run_id, int step_count);
   void add_readings(const std::vector<LiveReading>& readings);
   void add_step(const RecordedStepView& step);
-  void add_prediction(int step_index, double T, double T_stderr);
+  /// `latency_s` < 0: not measured (PredictedStep::latency_s).
+  void add_prediction(int step_index, double T, double T_stderr, double latency_s);
   void add_event(const QString& kind, const QString& message, int step_index);
   void show_state(acquisition::EngineState state, const QString& why);
   void show_progress(const acquisition::Progress& progress);

@@ -29,6 +29,7 @@ namespace {
 struct ColumnSpec {
   const char* header;  ///< translated in StepTableModel's context
   std::optional<double> (*value)(const StepRow&);
+  const char* tooltip = nullptr;  ///< the header's, where its words need saying (translated)
 };
 
 // In StepTableModel::Column order.
@@ -49,6 +50,10 @@ const std::array<ColumnSpec, StepTableModel::kColumnCount> kColumns{{
      [](const StepRow& r) { return r.predicted_T_stderr; }},
     {QT_TRANSLATE_NOOP("tocd::gui::StepTableModel", "Difference"),
      [](const StepRow& r) { return r.relative_difference(); }},
+    {QT_TRANSLATE_NOOP("tocd::gui::StepTableModel", "Latency (s)"),
+     [](const StepRow& r) { return r.prediction_latency_s; },
+     QT_TRANSLATE_NOOP("tocd::gui::StepTableModel",
+                       "Seconds from the step's recording end to its prediction being stored")},
 }};
 
 bool is_column(int c) {
@@ -61,11 +66,21 @@ std::optional<double> column_value(const StepRow& r, int column) {
   return kColumns[static_cast<std::size_t>(column)].value(r);
 }
 
+/// Gives `to` the prediction of `from`.
+void copy_prediction(StepRow& to, const StepRow& from) {
+  to.predicted_T = from.predicted_T;
+  to.predicted_T_stderr = from.predicted_T_stderr;
+  to.prediction_latency_s = from.prediction_latency_s;
+}
+
 }  // namespace
 
 QVariant StepTableModel::headerData(int section, Qt::Orientation orientation, int role) const {
-  if (role != Qt::DisplayRole || orientation != Qt::Horizontal || !is_column(section)) return {};
-  return tr(kColumns[static_cast<std::size_t>(section)].header);
+  if (orientation != Qt::Horizontal || !is_column(section)) return {};
+  const ColumnSpec& column = kColumns[static_cast<std::size_t>(section)];
+  if (role == Qt::DisplayRole) return tr(column.header);
+  if (role == Qt::ToolTipRole && column.tooltip) return tr(column.tooltip);
+  return {};
 }
 
 QVariant StepTableModel::data(const QModelIndex& index, int role) const {
@@ -77,6 +92,8 @@ QVariant StepTableModel::data(const QModelIndex& index, int role) const {
   if (role == Qt::ForegroundRole && !raw) return QBrush(QColor(140, 140, 140));
   if (role != Qt::DisplayRole) return {};
   if (!raw) {
+    // A prediction made outside its run has no latency: nothing is pending there.
+    if (index.column() == kLatency && r.predicted_T) return {};
     return index.column() >= kPredictedT ? tr("pending") : QVariant();
   }
   switch (index.column()) {
@@ -92,6 +109,8 @@ QVariant StepTableModel::data(const QModelIndex& index, int role) const {
       return QString::number(*raw, 'f', 4);
     case kDifference:
       return QStringLiteral("%1 %").arg(*raw * 100.0, 0, 'f', 1);
+    case kLatency:
+      return QString::number(*raw, 'f', 2);
     default:
       return {};
   }
@@ -112,12 +131,9 @@ void StepTableModel::upsert_measured(const StepRow& row) {
   const int i = row_of(row.step);
   if (i >= 0) {
     StepRow& r = rows_[static_cast<std::size_t>(i)];
-    const auto T = r.predicted_T, err = r.predicted_T_stderr;
+    const StepRow before = r;
     r = row;
-    if (!r.predicted_T) {
-      r.predicted_T = T;
-      r.predicted_T_stderr = err;
-    }
+    if (!r.predicted_T) copy_prediction(r, before);
     emit dataChanged(index(i, 0), index(i, kColumnCount - 1));
     return;
   }
@@ -126,10 +142,9 @@ void StepTableModel::upsert_measured(const StepRow& row) {
   const int at = static_cast<int>(pos - rows_.begin());
   StepRow added = row;
   const auto orphan = std::find_if(orphan_predictions_.begin(), orphan_predictions_.end(),
-                                   [&](const auto& o) { return o.first == row.step; });
+                                   [&](const StepRow& o) { return o.step == row.step; });
   if (orphan != orphan_predictions_.end() && !added.predicted_T) {
-    added.predicted_T = orphan->second.first;
-    added.predicted_T_stderr = orphan->second.second;
+    copy_prediction(added, *orphan);
     orphan_predictions_.erase(orphan);
   }
   beginInsertRows({}, at, at);
@@ -137,15 +152,18 @@ void StepTableModel::upsert_measured(const StepRow& row) {
   endInsertRows();
 }
 
-void StepTableModel::set_prediction(int step, double T, double T_stderr) {
+void StepTableModel::set_prediction(int step, double T, double T_stderr, std::optional<double> latency_s) {
+  StepRow predicted;
+  predicted.step = step;
+  predicted.predicted_T = T;
+  predicted.predicted_T_stderr = T_stderr;
+  predicted.prediction_latency_s = latency_s;
   const int i = row_of(step);
   if (i < 0) {
-    orphan_predictions_.push_back({step, {T, T_stderr}});
+    orphan_predictions_.push_back(predicted);
     return;
   }
-  StepRow& r = rows_[static_cast<std::size_t>(i)];
-  r.predicted_T = T;
-  r.predicted_T_stderr = T_stderr;
+  copy_prediction(rows_[static_cast<std::size_t>(i)], predicted);
   emit dataChanged(index(i, kPredictedT), index(i, kColumnCount - 1));
 }
 

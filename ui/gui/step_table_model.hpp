@@ -15,14 +15,18 @@ struct StepRow {
   double measured_T = 0;
   std::optional<double> predicted_T;
   std::optional<double> predicted_T_stderr;
+  /// Seconds from the step's recording end to its prediction being stored; empty when the
+  /// prediction was not made by its run (db::PredictionRecord::latency_s unset).
+  std::optional<double> prediction_latency_s;
 
   /// (predicted - measured) / measured, when both exist and measured is not zero.
   std::optional<double> relative_difference() const;
 };
 
 /// The step table: displacement, nominal strain, load, measured T, predicted T, its
-/// standard error and the relative difference, one row per step, ordered by step index.
-/// Display text is formatted; Qt::UserRole gives the raw number (empty when missing).
+/// standard error, the relative difference and the prediction's latency, one row per step,
+/// ordered by step index. Display text is formatted; Qt::UserRole gives the raw number (empty
+/// when missing).
 class StepTableModel : public QAbstractTableModel {
   Q_OBJECT
 
@@ -36,6 +40,7 @@ class StepTableModel : public QAbstractTableModel {
     kPredictedT,
     kPredictedErr,
     kDifference,
+    kLatency,
     kColumnCount
   };
 
@@ -48,9 +53,10 @@ class StepTableModel : public QAbstractTableModel {
 
   /// Adds the step or replaces its measured values (keeps a prediction already there).
   void upsert_measured(const StepRow& row);
-  /// Sets the prediction of `step`; a prediction for a step not yet listed is kept and
-  /// shown once the step arrives (the two come from different threads).
-  void set_prediction(int step, double T, double T_stderr);
+  /// Sets the prediction of `step` (`latency_s` empty: not measured); a prediction for a step
+  /// not yet listed is kept and shown once the step arrives (the two come from different
+  /// threads).
+  void set_prediction(int step, double T, double T_stderr, std::optional<double> latency_s = std::nullopt);
   void set_rows(std::vector<StepRow> rows);
   void clear();
 
@@ -63,7 +69,8 @@ class StepTableModel : public QAbstractTableModel {
   int row_of(int step) const;
 
   std::vector<StepRow> rows_;
-  std::vector<std::pair<int, std::pair<double, double>>> orphan_predictions_;
+  /// Predictions of steps not listed yet: rows holding only the step and its prediction.
+  std::vector<StepRow> orphan_predictions_;
 };
 
 }  // namespace tocd::gui

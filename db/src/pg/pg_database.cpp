@@ -228,12 +228,12 @@ std::int64_t PgDatabase::add_prediction(const PredictionRecord& p) {
   return c_.query_int(
       "INSERT INTO predictions(run_id, step_index, config_json, \"T\", \"T_stderr\", fe_seconds, "
       "mesh_seconds, "
-      "mc_seconds, total_seconds, software_version, summary_json, created_utc_ns) "
-      "VALUES($1,$2,$3,$4,$5,$6,$7,$8,$9,$10,$11,$12) RETURNING id",
+      "mc_seconds, total_seconds, software_version, summary_json, created_utc_ns, latency_s) "
+      "VALUES($1,$2,$3,$4,$5,$6,$7,$8,$9,$10,$11,$12,$13) RETURNING id",
       {p.run_id, p.step_index, p.config_json, p.T, p.T_stderr, p.fe_seconds, p.mesh_seconds, p.mc_seconds,
        p.total_seconds, p.software_version.empty() ? std::string(tocd::version()) : p.software_version,
        p.summary_json.empty() ? Param(std::nullopt) : Param(p.summary_json),
-       p.created_utc_ns != 0 ? p.created_utc_ns : wall_clock_ns()});
+       p.created_utc_ns != 0 ? p.created_utc_ns : wall_clock_ns(), p.latency_s});
 }
 
 int PgDatabase::first_incomplete_step(std::int64_t run_id) const {

@@ -158,11 +158,12 @@ void write_run_rows(const pg::Connection& c, const RunCopy& rc, std::int64_t id)
     c.query(
         "INSERT INTO predictions(run_id, step_index, config_json, \"T\", \"T_stderr\", fe_seconds, "
         "mesh_seconds, "
-        "mc_seconds, total_seconds, software_version, summary_json, created_utc_ns) "
-        "VALUES($1,$2,$3,$4,$5,$6,$7,$8,$9,$10,$11,$12)",
+        "mc_seconds, total_seconds, software_version, summary_json, created_utc_ns, latency_s) "
+        "VALUES($1,$2,$3,$4,$5,$6,$7,$8,$9,$10,$11,$12,$13)",
         {id, p.step_index, p.config_json, p.T, p.T_stderr, p.fe_seconds, p.mesh_seconds, p.mc_seconds,
          p.total_seconds, p.software_version,
-         p.summary_json.empty() ? Param(std::nullopt) : Param(p.summary_json), p.created_utc_ns});
+         p.summary_json.empty() ? Param(std::nullopt) : Param(p.summary_json), p.created_utc_ns,
+         p.latency_s});
 }
 
 // One run in one transaction: the server shows it whole or not at all.

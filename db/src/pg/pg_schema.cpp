@@ -1,5 +1,6 @@
 #include "pg_schema.hpp"
 
+#include <array>
 #include <string>
 
 #include <fmt/format.h>
@@ -11,10 +12,11 @@ namespace tocd::db::pg {
 
 namespace {
 
-// Schema version 3 as one script: a server starts at the current version (there are no older
-// server databases to migrate). Mixed-case column names are quoted so that they keep their
-// case (`measured_T`, `baseline_power_W`) for SQL and pandas alike, as in the SQLite file.
-// When the schema changes, add a migration here beside the SQLite one (schema.cpp).
+// The current schema (version 4) as one script: a new server database starts at it.
+// Mixed-case column names are quoted so that they keep their case (`measured_T`,
+// `baseline_power_W`) for SQL and pandas alike, as in the SQLite file. When the schema
+// changes, change it here and append the step to kUpgrades, beside the SQLite migration
+// (schema.cpp).
 constexpr const char* kSchema = R"sql(
 CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT NOT NULL);
 CREATE TABLE instruments(
@@ -71,7 +73,7 @@ CREATE TABLE predictions(
   step_index INTEGER NOT NULL, config_json TEXT NOT NULL, "T" DOUBLE PRECISION,
   "T_stderr" DOUBLE PRECISION, fe_seconds DOUBLE PRECISION, mesh_seconds DOUBLE PRECISION,
   mc_seconds DOUBLE PRECISION, total_seconds DOUBLE PRECISION, software_version TEXT NOT NULL,
-  summary_json TEXT, created_utc_ns BIGINT NOT NULL);
+  summary_json TEXT, created_utc_ns BIGINT NOT NULL, latency_s DOUBLE PRECISION);
 CREATE INDEX predictions_by_run_step ON predictions(run_id, step_index);
 -- Runs that arrived by `tocdlab db push`: what the pushed copy was made from, so that a
 -- second push of an unchanged run adds nothing.
@@ -128,6 +130,15 @@ SELECT run_id, step, target_displacement_mm, displacement_mm, nominal_strain, "t
 FROM step_comparison WHERE state = 'completed';
 )sql";
 
+// Server databases hold tocdlab's schema since version 3. kUpgrades[i] takes one of version
+// kFirstUpgradable + i to the next, as the SQLite migration of the same number does. Never
+// edit a released entry.
+constexpr int kFirstUpgradable = 3;
+constexpr std::array<const char*, Database::kSchemaVersion - kFirstUpgradable> kUpgrades = {
+    // 3 -> 4: each prediction's latency (NULL for the predictions stored before).
+    "ALTER TABLE predictions ADD COLUMN latency_s DOUBLE PRECISION;",
+};
+
 // Schema version of the database behind `c`: 0 for an empty one. Throws for a foreign one.
 int found_version(const Connection& c) {
   const Result tables = c.query(
@@ -162,8 +173,10 @@ void require_schema(const Connection& c) {
     throw DatabaseError(fmt::format(
         "PostgreSQL at '{}' holds no tocdlab database yet: record or push a run into it first", c.name()));
   if (v < Database::kSchemaVersion)
-    throw DatabaseError(fmt::format("PostgreSQL at '{}' has tocdlab schema version {} (current {})", c.name(),
-                                    v, Database::kSchemaVersion));
+    throw DatabaseError(
+        fmt::format("PostgreSQL at '{}' has tocdlab schema version {} (current {}): its owner "
+                    "upgrades it by opening it once for writing (e.g. `tocdlab db push`)",
+                    c.name(), v, Database::kSchemaVersion));
 }
 
 void ensure_schema(const Connection& c) {
@@ -173,19 +186,34 @@ void ensure_schema(const Connection& c) {
   c.query("SELECT pg_advisory_xact_lock($1, 0)", {kLockSpace});
   const int v = found_version(c);
   if (v == Database::kSchemaVersion) return;
-  if (v != 0)
+  if (v != 0 && v < kFirstUpgradable)
     throw DatabaseError(
         fmt::format("PostgreSQL at '{}' has tocdlab schema version {}, which this build "
                     "cannot upgrade (current {})",
                     c.name(), v, Database::kSchemaVersion));
-  c.exec(kSchema);
   const std::string now = format_utc(wall_clock_ns());
+  if (v == 0) {
+    c.exec(kSchema);
+    c.query("INSERT INTO meta(key, value) VALUES('created_utc', $1)", {now});
+  } else {
+    try {
+      for (int i = v; i < Database::kSchemaVersion; ++i)
+        c.exec(kUpgrades[static_cast<std::size_t>(i - kFirstUpgradable)]);
+    } catch (const DatabaseError& e) {
+      // ALTER TABLE takes the tables' owner: a rig's role may record but not upgrade.
+      throw DatabaseError(fmt::format(
+          "PostgreSQL at '{}' has tocdlab schema version {}; upgrading it to {} failed, nothing was "
+          "changed (the database's owner upgrades it by opening it once, e.g. with `tocdlab db push`): {}",
+          c.name(), v, Database::kSchemaVersion, e.what()));
+    }
+  }
   for (const auto& [k, val] : {std::pair<std::string, std::string>{"application", "tocdlab"},
                                {"schema_version", std::to_string(Database::kSchemaVersion)},
-                               {"created_utc", now},
                                {"migrated_by_version", std::string(tocd::version())},
                                {"migrated_utc", now}})
-    c.query("INSERT INTO meta(key, value) VALUES($1, $2)", {k, val});
+    c.query(
+        "INSERT INTO meta(key, value) VALUES($1, $2) ON CONFLICT(key) DO UPDATE SET value = excluded.value",
+        {k, val});
   t.commit();
 }
 

@@ -14,10 +14,11 @@ namespace tocd::db::pg {
 inline constexpr int kLockSpace = 0x544F4344;
 inline constexpr int kPushLockSpace = 0x544F4350;  // "TOCP"
 
-/// Creates the schema in an empty database (the connection's current schema), or checks that
-/// the one there is tocdlab's of the current version. Refuses (DatabaseError, nothing changed)
-/// a database holding other tables, or a tocdlab schema of a newer version. Concurrent callers
-/// create it once.
+/// Creates the schema in an empty database (the connection's current schema), upgrades
+/// tocdlab's schema of an older version there to the current one, or checks that the one there
+/// is current. Refuses (DatabaseError, nothing changed) a database holding other tables, a
+/// tocdlab schema of a newer version, or one this build cannot upgrade (also when the
+/// connection's role may not alter the tables). Concurrent callers create or upgrade it once.
 void ensure_schema(const Connection& c);
 
 /// Checks, without writing, that the database holds tocdlab's schema of the current version.

@@ -1,6 +1,8 @@
 #include <array>
 #include <chrono>
 #include <filesystem>
+#include <map>
+#include <mutex>
 #include <thread>
 #include <tuple>
 
@@ -20,7 +22,8 @@ using namespace tocd::acquisition;
 using namespace tocd::acquisition::testing;
 namespace fs = std::filesystem;
 
-namespace {
+// Named, not anonymous: gtest derives each TEST_F class (external linkage) from the fixture.
+namespace engine_test_support {
 
 class EngineTest : public EngineFixture {
  protected:
@@ -34,12 +37,17 @@ struct Recorder : EngineObserver {
   std::vector<EngineState> states;
   std::vector<StepResult> steps;
   std::atomic<int> live{0}, predictions{0}, progress{0};
+  std::map<int, double> latency_s;  ///< by step, as the predictions landed
   void on_samples(std::span<const LiveSample> s) override { live += static_cast<int>(s.size()); }
   void on_step_recorded(const StepResult& r) override {
     std::lock_guard lock(mu);
     steps.push_back(r);
   }
-  void on_prediction(int, const PredictedStep&) override { ++predictions; }
+  void on_prediction(int step, const PredictedStep& p) override {
+    std::lock_guard lock(mu);
+    latency_s[step] = p.latency_s;
+    ++predictions;
+  }
   void on_state(EngineState s, const std::string&) override {
     std::lock_guard lock(mu);
     states.push_back(s);
@@ -92,7 +100,9 @@ struct EngineTest::BusySimulatorRun {
   std::int64_t run = 0;
 };
 
-}  // namespace
+}  // namespace engine_test_support
+
+using namespace engine_test_support;
 
 TEST_F(EngineTest, RecordsStepsWithTransmissionLoadAndPredictions) {
   auto world = std::make_shared<FakeWorld>(kFactor);
@@ -100,12 +110,15 @@ TEST_F(EngineTest, RecordsStepsWithTransmissionLoadAndPredictions) {
   // (logged, retried, recovered).
   world->fail_tester_reads = 4;
   auto predictor = std::make_shared<FakePredictor>(1.02);
+  predictor->work = std::chrono::milliseconds(30);
   Recorder obs;
   tocd::db::Database db(path_);
   const Protocol p = parse_protocol(pin_protocol("0.25, 0.5, 0.75"), "engine.toml");
   Engine engine(db, make_fake_instruments(world), fast(), predictor, &obs);
+  const auto began = std::chrono::steady_clock::now();
   const auto run = engine.start(p);
   EXPECT_EQ(engine.wait(), EngineState::completed) << engine.error();
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
 
   const tocd::db::Reader r(path_);
   EXPECT_EQ(r.run(run).status, tocd::db::RunStatus::completed);
@@ -150,6 +163,14 @@ TEST_F(EngineTest, RecordsStepsWithTransmissionLoadAndPredictions) {
     ASSERT_TRUE(row.prediction);
     EXPECT_NEAR(row.prediction->T, 1.02 * row.step.measured_transmission, 1e-12);
     EXPECT_NEAR(row.relative_difference, 0.02, 1e-9);
+    // Its latency, real time from the queue receiving the step to the prediction being stored,
+    // lies within the run and covers the predictor's own work; the observer heard the same.
+    const double latency = row.prediction->latency_s;
+    EXPECT_GE(latency, row.prediction->total_seconds) << "step " << row.step.index;
+    EXPECT_GE(row.prediction->total_seconds, 0.03);
+    EXPECT_LE(latency, wall_s) << "step " << row.step.index;
+    std::lock_guard lock(obs.mu);
+    EXPECT_EQ(obs.latency_s[row.step.index], latency) << "step " << row.step.index;
   }
   // The compare table shows each step with its prediction and the relative difference.
   const CompareTable table = compare_table(r, run);

@@ -247,6 +247,11 @@ std::future<PredictedStep> FakePredictor::predict(const RecordedStep& step) {
     p.T_stderr = 0.001;
     p.config_json = fmt::format(R"({{"fake": true, "displacement_mm": {}}})", step.displacement_mm);
     p.seconds = 0.01;
+    if (work.count() > 0) {
+      const auto began = std::chrono::steady_clock::now();
+      std::this_thread::sleep_for(work);
+      p.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+    }
     promise->set_value(p);
   });
   return future;

@@ -6,6 +6,7 @@
 // with a time constant. They share one FakeWorld (simulated clock + fault hooks).
 
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <mutex>
 #include <random>
@@ -84,6 +85,9 @@ class FakePredictor : public StepPredictor {
   void open_gate();
   std::atomic<int> calls{0};
   std::atomic<bool> fail{false};  ///< predictions end in an error (a simulator that failed)
+  /// How long each prediction works once through the gate (set before the run): its
+  /// PredictedStep::seconds is then that time as measured, instead of a nominal 0.01 s.
+  std::chrono::milliseconds work{0};
 
  private:
   double factor_;

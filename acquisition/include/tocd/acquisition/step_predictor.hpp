@@ -25,10 +25,15 @@ struct PredictedStep {
   double seconds = 0;       ///< wall time of the prediction
   double fe_seconds = -1, mesh_seconds = -1, mc_seconds = -1;  ///< < 0 = not reported
   std::string summary_json;                                    ///< optional extras ("" = none)
+  /// Real seconds from the run's prediction queue receiving the step to the prediction being
+  /// stored (db::PredictionRecord::latency_s). The queue sets it, never a predictor: < 0 = not
+  /// measured (a prediction made outside a run).
+  double latency_s = -1;
 };
 
 /// The database record of `p` as the prediction of step `step_index` of run `run_id`: the
-/// stage timings a predictor did not report stay unset; the software version is this build's.
+/// stage timings a predictor did not report, and a latency not measured, stay unset; the
+/// software version is this build's.
 db::PredictionRecord prediction_record(std::int64_t run_id, int step_index, const PredictedStep& p);
 
 /// Predicts a recorded step's transmission. The simulator's implementation, over

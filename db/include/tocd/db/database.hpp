@@ -42,7 +42,7 @@ struct ResumePoint {
 /// go through a Writer (writer.hpp), not through this class.
 class Database {
  public:
-  static constexpr int kSchemaVersion = 3;
+  static constexpr int kSchemaVersion = 4;
   static constexpr std::int32_t kApplicationId = 0x544F4344;  // "TOCD" (PRAGMA application_id)
 
   /// Opens (creating when absent) the database at `path`, a file or a postgresql:// URI; see

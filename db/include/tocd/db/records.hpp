@@ -184,6 +184,12 @@ struct PredictionRecord {
   double T = kUnset;
   double T_stderr = kUnset;
   double fe_seconds = kUnset, mesh_seconds = kUnset, mc_seconds = kUnset, total_seconds = kUnset;
+  /// Real (steady-clock) seconds from the moment the run's prediction queue received the
+  /// recorded step (its recording had ended) to the moment this prediction was stored: what an
+  /// operator waited for it, queueing behind earlier steps included. Only a run's own queue
+  /// measures it; a prediction made outside a run (re-predictions, `tocdlab predict`) leaves it
+  /// unset.
+  double latency_s = kUnset;
   std::string software_version;     // empty = tocd::version()
   std::string summary_json;         // optional extras (FE summary, mesh stats; "" = none)
   std::int64_t created_utc_ns = 0;  // 0 = now
