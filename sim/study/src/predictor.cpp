@@ -4,6 +4,7 @@
 #include "tocd/sim/study/predictor.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -34,6 +35,12 @@ void check_cancel(const PredictionRequest& r, const char* where) {
   if (r.cancel && r.cancel->load()) throw tocd::Cancelled(fmt::format("prediction cancelled {}", where));
 }
 
+}  // namespace
+
+// The predictor's cached stages. Named, not anonymous: Predictor::Impl (external linkage)
+// holds them.
+namespace predictor_cache {
+
 struct FeEntry {
   fe::FeStepResult step;
   double seconds = 0;
@@ -61,6 +68,23 @@ struct PreparedEntry {
   std::vector<std::size_t> graded_levels;     ///< tets per graded level (graded model only)
   double seconds = 0;
 };
+
+// A run's loading path, solved as far as its last predicted step. The next step of the run
+// (its request's fe_path_mm is this path) goes on from here instead of from first touch.
+struct LoadingPath {
+  std::mutex mutex;
+  std::optional<fe::PinCompression> fe;
+};
+
+}  // namespace predictor_cache
+
+namespace {
+
+using predictor_cache::FeEntry;
+using predictor_cache::LayoutEntry;
+using predictor_cache::LoadingPath;
+using predictor_cache::MeshEntry;
+using predictor_cache::PreparedEntry;
 
 fe::FeModel fe_model(const PredictionRequest& r) {
   fe::FeModel m = fe::FeModel::published_default();
@@ -98,13 +122,6 @@ std::string fe_model_key(const PredictionRequest& r) {
   m.fe_path_mm.clear();
   return fe_key(m);
 }
-
-// A run's loading path, solved as far as its last predicted step. The next step of the run
-// (its request's fe_path_mm is this path) goes on from here instead of from first touch.
-struct LoadingPath {
-  std::mutex mutex;
-  std::optional<fe::PinCompression> fe;
-};
 
 // The pin compression of `r` along its fe_path_mm to its displacement: from where `path` is
 // when that is the request's path, otherwise solved afresh along it (the same bits either way:
@@ -180,22 +197,31 @@ struct Predictor::Impl {
   KeyedCache<LayoutEntry> layouts{8};
   KeyedCache<PreparedEntry> prepared{8};
 
-  // A few loading paths at once (a recording has one; the window may hold runs of several).
+  // A few loading paths at once (a recording has one; the window may hold runs of several);
+  // past that the one used least recently goes.
   static constexpr std::size_t kLoadingPaths = 4;
+  struct HeldPath {
+    std::shared_ptr<LoadingPath> path;
+    std::uint64_t last_used = 0;
+  };
   std::mutex paths_mutex;
-  std::map<std::string, std::shared_ptr<LoadingPath>> paths;
+  std::map<std::string, HeldPath> paths;
+  std::uint64_t path_uses = 0;
 
   std::shared_ptr<LoadingPath> loading_path(const PredictionRequest& r) {
     std::lock_guard lock(paths_mutex);
-    auto& slot = paths[fe_model_key(r)];
-    if (!slot) {
-      slot = std::make_shared<LoadingPath>();
-      if (paths.size() > kLoadingPaths)
-        for (auto it = paths.begin(); it != paths.end(); ++it)
-          if (it->second != slot) {
-            paths.erase(it);
-            break;
-          }
+    const std::string key = fe_model_key(r);
+    HeldPath& held = paths[key];
+    held.last_used = ++path_uses;
+    if (held.path) return held.path;
+    held.path = std::make_shared<LoadingPath>();
+    std::shared_ptr<LoadingPath> slot = held.path;
+    if (paths.size() > kLoadingPaths) {
+      auto oldest = paths.end();
+      for (auto it = paths.begin(); it != paths.end(); ++it)
+        if (it->first != key && (oldest == paths.end() || it->second.last_used < oldest->second.last_used))
+          oldest = it;
+      paths.erase(oldest);
     }
     return slot;
   }
