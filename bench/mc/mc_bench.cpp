@@ -58,7 +58,7 @@ void bench(const char* name, const msh::SlabSpec& spec, std::uint64_t photons, i
 int main(int argc, char** argv) {
   tocd::bench::SlabBenchOptions o;
   o.threads = 2;  // the most threads: each problem runs with 1 and with this many
-  if (!tocd::bench::parse_slab_bench_options(argc, argv, "mc_bench", o)) return 2;
+  if (const auto stop = tocd::bench::parse_slab_bench_options(argc, argv, "mc_bench", o)) return *stop;
   for (int threads : {1, o.threads}) {
     bench("(a) skin slab", skin_slab(o.cells), o.photons, threads);
     bench("(a) skin slab, dT/dmu", skin_slab(o.cells), o.photons, threads, true);

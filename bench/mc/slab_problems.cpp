@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <cstring>
 
+#include <CLI/CLI.hpp>
+
 namespace tocd::bench {
 
 namespace {
@@ -41,20 +43,17 @@ sim::mesh::SlabSpec layered_slab(int cells) {
   return s;
 }
 
-bool parse_slab_bench_options(int argc, char** argv, const char* program, SlabBenchOptions& o) {
-  for (int i = 1; i + 1 < argc; i += 2) {
-    if (!std::strcmp(argv[i], "--photons"))
-      o.photons = std::strtoull(argv[i + 1], nullptr, 10);
-    else if (!std::strcmp(argv[i], "--threads"))
-      o.threads = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--cells"))
-      o.cells = std::atoi(argv[i + 1]);
-    else {
-      std::fprintf(stderr, "usage: %s [--photons N] [--threads N] [--cells N]\n", program);
-      return false;
-    }
+std::optional<int> parse_slab_bench_options(int argc, char** argv, const char* program, SlabBenchOptions& o) {
+  CLI::App app{"Photons/s of the tet-mesh Monte Carlo on the skin slab problems", program};
+  app.add_option("--photons", o.photons, "photons per problem")->check(CLI::PositiveNumber);
+  app.add_option("--threads", o.threads, "Monte Carlo threads")->check(CLI::PositiveNumber);
+  app.add_option("--cells", o.cells, "cells across the slab's 10 mm")->check(CLI::PositiveNumber);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
   }
-  return true;
+  return std::nullopt;
 }
 
 }  // namespace tocd::bench

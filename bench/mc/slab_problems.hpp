@@ -3,6 +3,7 @@
 // mc_bench and mpi_scaling_bench so that their figures are of the same problem.
 //   [--photons N] [--threads N] [--cells N]
 #include <cstdint>
+#include <optional>
 
 #include "tocd/sim/mc/run.hpp"
 #include "tocd/sim/mesh/slab_mesh.hpp"
@@ -25,8 +26,9 @@ struct SlabBenchOptions {
   int cells = 32;
 };
 
-/// Reads the options into `o`, whose values stand where an option is not given; false (after
-/// printing the usage of `program` on stderr) for an option it does not know.
-bool parse_slab_bench_options(int argc, char** argv, const char* program, SlabBenchOptions& o);
+/// Reads the options into `o`, whose values stand where an option is not given. Returns the
+/// exit code when the program is to stop here: 0 after `--help`, non-zero (the error printed)
+/// for an option it does not know or a value out of range.
+std::optional<int> parse_slab_bench_options(int argc, char** argv, const char* program, SlabBenchOptions& o);
 
 }  // namespace tocd::bench

@@ -33,7 +33,8 @@ using tocd::bench::slab_optics;
 
 int main(int argc, char** argv) {
   tocd::bench::SlabBenchOptions o;
-  if (!tocd::bench::parse_slab_bench_options(argc, argv, "mpi_scaling_bench", o)) return 2;
+  if (const auto stop = tocd::bench::parse_slab_bench_options(argc, argv, "mpi_scaling_bench", o))
+    return *stop;
   const std::uint64_t photons = o.photons;
   const int threads = o.threads;
   auto& team = tocd::sim::parallel::world();
