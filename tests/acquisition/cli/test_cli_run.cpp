@@ -28,7 +28,8 @@
 namespace fs = std::filesystem;
 extern char** environ;
 
-namespace {
+// Named, not anonymous: gtest derives each TEST_F class (external linkage) from the fixture.
+namespace cli_run_support {
 
 using tocd::test::read_file;
 
@@ -125,7 +126,9 @@ class CliRun : public tocd::test::CliTest {
   }
 };
 
-}  // namespace
+}  // namespace cli_run_support
+
+using namespace cli_run_support;
 
 TEST_F(CliRun, RunsCompareExportOnTheSimulatedLab) {
   const auto p = write("p.toml", protocol(1.0));
@@ -139,6 +142,12 @@ TEST_F(CliRun, RunsCompareExportOnTheSimulatedLab) {
   EXPECT_NE(err_.find("step 3/3 recorded"), std::string::npos) << err_;
   EXPECT_NE(err_.find("run 1 completed"), std::string::npos) << err_;
   EXPECT_NE(out_.find("measured T"), std::string::npos) << out_;
+  // Each prediction's line says how long after its step's recording it was stored.
+  std::size_t stored_lines = 0;
+  for (auto at = err_.find("after its recording ended"); at != std::string::npos;
+       at = err_.find("after its recording ended", at + 1))
+    ++stored_lines;
+  EXPECT_EQ(stored_lines, 3u) << err_;
 
   ASSERT_EQ(tocdlab(fmt::format("compare --db {} --run 1 --json", db.string())), 0) << err_;
   const auto j = nlohmann::json::parse(out_);
@@ -164,7 +173,14 @@ TEST_F(CliRun, RunsCompareExportOnTheSimulatedLab) {
   EXPECT_EQ(std::count(out_.begin(), out_.end(), '\n'), 4);  // header + 3 steps
   ASSERT_EQ(tocdlab(fmt::format("export --db {} --run 1 --format json --max-points 10", db.string())), 0)
       << err_;
-  EXPECT_TRUE(nlohmann::json::accept(out_));
+  ASSERT_TRUE(nlohmann::json::accept(out_));
+  // The run's predictions carry their latency (predicted while it recorded).
+  const auto exported = nlohmann::json::parse(out_);
+  ASSERT_EQ(exported["predictions"].size(), 3u);
+  for (const auto& prediction : exported["predictions"]) {
+    ASSERT_TRUE(prediction["latency_s"].is_number()) << prediction.dump();
+    EXPECT_GE(prediction["latency_s"].get<double>(), 0.0);
+  }
 }
 
 TEST_F(CliRun, MalformedProtocolNamesLineAndKeyAndCreatesNothing) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iostream>
 #include <mutex>
+#include <string>
 #include <thread>
 
 #include <fmt/format.h>
@@ -60,8 +61,13 @@ void TerminalProgress::on_step_recorded(const acquisition::StepResult& s) {
 
 void TerminalProgress::on_prediction(int step_index, const acquisition::PredictedStep& p) {
   std::lock_guard lock(mu_);
-  line(fmt::format("step {} predicted: T = {:.5f} +- {:.5f} ({:.1f} s)", step_index + 1, p.T, p.T_stderr,
-                   p.seconds));
+  // The latency (recording's end to stored) says whether predictions keep pace with the rig;
+  // the prediction's own seconds leave out its wait behind the steps before it.
+  const std::string stored = p.latency_s >= 0
+                                 ? fmt::format(", stored {:.1f} s after its recording ended", p.latency_s)
+                                 : std::string{};
+  line(fmt::format("step {} predicted: T = {:.5f} +- {:.5f} ({:.1f} s{})", step_index + 1, p.T, p.T_stderr,
+                   p.seconds, stored));
 }
 
 void TerminalProgress::on_event(const db::EventRecord& e) {
