@@ -85,69 +85,6 @@ std::string code_meaning(int code) {
   }
 }
 
-/// Runs `switches` on the complex in a child process and returns its TetGen error code (0:
-/// accepted; -1: the child crashed). Debian's libtet 1.5 frees its pools twice on its error
-/// path and crashes instead of throwing, so a complex is probed in isolation before it is
-/// meshed. With fd >= 0 the child writes the facet markers of TetGen's output faces to it.
-int probe(const Plc& plc, const char* switches, int fd) {
-  const pid_t pid = fork();
-  if (pid < 0) return 0;  // cannot probe: mesh directly
-  if (pid == 0) {
-    int code = 0;
-    try {
-      tetgenio in, out;
-      fill_input(plc, in);
-      std::string text(switches);
-      std::vector<char> sw(text.begin(), text.end());
-      sw.push_back('\0');
-      ::tetrahedralize(sw.data(), &in, &out);
-      if (fd >= 0 && out.trifacemarkerlist) {
-        for (int f = 0; f < out.numberoftrifaces; ++f) {
-          const int m = out.trifacemarkerlist[f];
-          if (write(fd, &m, sizeof m) != static_cast<ssize_t>(sizeof m)) break;
-        }
-      }
-    } catch (int c) {
-      code = c;
-    } catch (...) {
-      code = 2;
-    }
-    _exit(code);
-  }
-  int status = 0;
-  if (waitpid(pid, &status, 0) < 0) return 0;
-  if (WIFEXITED(status)) return WEXITSTATUS(status);
-  return -1;
-}
-
-/// Reruns TetGen's intersection detection (in a child) and names the surfaces it reports.
-std::string surfaces_at_fault(const Plc& plc, const Section& section) {
-  int fds[2];
-  if (pipe(fds) != 0) return {};
-  probe(plc, "pdzQ", fds[1]);
-  close(fds[1]);
-  std::set<int> surfaces;
-  int m = 0;
-  while (read(fds[0], &m, sizeof m) == static_cast<ssize_t>(sizeof m)) surfaces.insert(m - 1);
-  close(fds[0]);
-  std::string names;
-  for (int s : surfaces) {
-    if (s < 0 || s >= static_cast<int>(section.surfaces.size())) continue;
-    names += (names.empty() ? "" : ", ") + section.surfaces[static_cast<std::size_t>(s)].name;
-  }
-  return names;
-}
-
-[[noreturn]] void reject(int code, const Plc& plc, const Section& section) {
-  const std::string names = surfaces_at_fault(plc, section);
-  const std::string reason =
-      code < 0 ? "TetGen failed while recovering the surfaces (self-intersecting or nearly touching facets)"
-               : code_meaning(code);
-  throw GeometryError(
-      fmt::format("TetGen rejected the composite geometry: {}{}", reason,
-                  names.empty() ? std::string{} : fmt::format(" (surfaces involved: {})", names)));
-}
-
 /// TetGen's output as the meshing child sends it: counts, then the arrays, in this order.
 struct MeshOutput {
   std::vector<double> points;     // x y z per node
@@ -303,6 +240,29 @@ ChildOutcome mesh_in_child(const Plc& plc, const std::string& switches, const st
   }
   outcome.output = std::move(*parsed);
   return outcome;
+}
+
+/// Reruns TetGen's intersection detection (in a child) and names the surfaces it reports.
+std::string surfaces_at_fault(const Plc& plc, const Section& section) {
+  std::set<int> surfaces;
+  for (const int m : mesh_in_child(plc, "pdzQ", nullptr).output.face_markers) surfaces.insert(m - 1);
+  std::string names;
+  for (int s : surfaces) {
+    if (s < 0 || s >= static_cast<int>(section.surfaces.size())) continue;
+    names += (names.empty() ? "" : ", ") + section.surfaces[static_cast<std::size_t>(s)].name;
+  }
+  return names;
+}
+
+[[noreturn]] void reject(int code, const Plc& plc, const Section& section) {
+  const std::string names = surfaces_at_fault(plc, section);
+  const std::string reason =
+      code < 0 ? "TetGen's process ended without a mesh (as it does on self-intersecting or nearly touching "
+                 "facets)"
+               : code_meaning(code);
+  throw GeometryError(
+      fmt::format("TetGen rejected the composite geometry: {}{}", reason,
+                  names.empty() ? std::string{} : fmt::format(" (surfaces involved: {})", names)));
 }
 
 tocd::sim::mesh::TetMesh to_tet_mesh(const MeshOutput& out, const Section& section) {
