@@ -4,8 +4,6 @@
 #include "tocd/sim/study/predictor.hpp"
 
 #include <cmath>
-#include <cstdint>
-#include <map>
 #include <mutex>
 #include <optional>
 
@@ -198,32 +196,12 @@ struct Predictor::Impl {
   KeyedCache<PreparedEntry> prepared{8};
 
   // A few loading paths at once (a recording has one; the window may hold runs of several);
-  // past that the one used least recently goes.
-  static constexpr std::size_t kLoadingPaths = 4;
-  struct HeldPath {
-    std::shared_ptr<LoadingPath> path;
-    std::uint64_t last_used = 0;
-  };
-  std::mutex paths_mutex;
-  std::map<std::string, HeldPath> paths;
-  std::uint64_t path_uses = 0;
+  // past that the one used least recently goes. The cache holds a pointer to each: a path is
+  // advanced in place, under its own lock.
+  KeyedCache<std::shared_ptr<LoadingPath>> paths{4};
 
   std::shared_ptr<LoadingPath> loading_path(const PredictionRequest& r) {
-    std::lock_guard lock(paths_mutex);
-    const std::string key = fe_model_key(r);
-    HeldPath& held = paths[key];
-    held.last_used = ++path_uses;
-    if (held.path) return held.path;
-    held.path = std::make_shared<LoadingPath>();
-    std::shared_ptr<LoadingPath> slot = held.path;
-    if (paths.size() > kLoadingPaths) {
-      auto oldest = paths.end();
-      for (auto it = paths.begin(); it != paths.end(); ++it)
-        if (it->first != key && (oldest == paths.end() || it->second.last_used < oldest->second.last_used))
-          oldest = it;
-      paths.erase(oldest);
-    }
-    return slot;
+    return *paths.get_or_compute(fe_model_key(r), [] { return std::make_shared<LoadingPath>(); }).value;
   }
 
   std::shared_ptr<const FeEntry> solve_fe(const PredictionRequest& r, bool& hit) {
