@@ -144,6 +144,9 @@ std::optional<MeshOutput> parse_output(const std::vector<char>& bytes) {
       return;
     }
     v.resize(static_cast<std::size_t>(n));
+    // An empty vector's data() may be null, and memcpy from or to null is undefined even for
+    // zero bytes (the intersection check's run sends no tets).
+    if (v.empty()) return;
     std::memcpy(v.data(), bytes.data() + at, v.size() * sizeof(T));
     at += v.size() * sizeof(T);
   };
