@@ -78,11 +78,25 @@ class Solver {
  private:
   bool newton(double tip, int& iterations, std::string& why) {
     const double floor = 1e-12 * law_.shear_modulus() * model_.thickness_mm * model_.thickness_mm;
+    // Levenberg-Marquardt damping of the tangent, in force per length: zero while Newton's full
+    // steps are taken. When the line search keeps only a fraction s of a step, the step ran
+    // along a soft direction of K (a near-zero eigenvalue, as where compressed elements at the
+    // pin's edge begin to fold) much farther than the energy allows: the next direction is taken
+    // with K + damping I, damping raised by the step's Rayleigh quotient times (1/s - 1), which
+    // shortens that direction by about s. Full steps lower it tenfold, and clear it once the
+    // residual falls tenfold, so the quadratic rate returns. Only the directions change: every
+    // step is still weighed on the true energy and convergence on the true residual.
+    double damping = 0;
     for (int it = 0; it < model_.solver.max_newton_iterations; ++it) {
       if (ev_.residual_norm <= model_.solver.residual_tolerance * std::max(ev_.internal_force_norm, floor))
         return true;
       ++iterations;
-      auto& K = asm_.stiffness();
+      Eigen::SparseMatrix<double> damped;
+      if (damping > 0) {
+        damped = asm_.stiffness();
+        for (int i = 0; i < damped.rows(); ++i) damped.coeffRef(i, i) += damping;
+      }
+      const Eigen::SparseMatrix<double>& K = damping > 0 ? damped : asm_.stiffness();
       ldlt_.factorize(K);
       VectorXd du;
       if (ldlt_.info() == Eigen::Success) du = ldlt_.solve(-ev_.residual);
@@ -104,7 +118,9 @@ class Solver {
           return false;
         }
       }
+      touch_pin(tip, K, du);
       const double slope = ev_.residual.dot(du);
+      const double before = ev_.residual_norm;
       // Line search on the total energy; a trial that inverts an element is never accepted.
       double s = 1;
       bool accepted = false;
@@ -134,12 +150,69 @@ class Solver {
         why = "line search found no admissible step (elements would invert)";
         return false;
       }
+      if (s < 0.25) {
+        const double rayleigh = -slope / du.squaredNorm();
+        damping += rayleigh * (1 / s - 1);
+      } else if (s == 1) {
+        damping = ev_.residual_norm < 0.1 * before ? 0.0 : 0.1 * damping;
+      }
     }
     if (ev_.residual_norm <= model_.solver.residual_tolerance * std::max(ev_.internal_force_norm, floor))
       return true;
     why = fmt::format("no convergence in {} Newton iterations (residual {:.2e} of force scale {:.2e})",
                       model_.solver.max_newton_iterations, ev_.residual_norm, ev_.internal_force_norm);
     return false;
+  }
+
+  // The Newton step is taken with the contact of the nodes touching the pin now; a node free
+  // of it now but inside it after the step gets no force from the tangent, so the step drives it
+  // deep into the pin, where the penalty's energy stops the line search at a tiny fraction of
+  // it (iteration after iteration, until the node has crept into contact). Such nodes join the
+  // contact for the direction (their penalty force linearised at the present gap, negative
+  // while they are apart: the step stops them at the pin's surface), as an active-set Newton
+  // does, until the step pushes no further free node in (a few rounds). The direction changes,
+  // the equations and their solution do not: the line search still weighs the true energy.
+  void touch_pin(double tip, const Eigen::SparseMatrix<double>& K, VectorXd& du) {
+    const auto& nodes = asm_.mesh().nodes;
+    const auto& eq = asm_.equation();
+    const auto& top = asm_.top_nodes();
+    const PinGeometry pin{model_.pin_radius_mm, tip};
+    std::vector<char> joined(top.size(), 0);
+    for (int round = 0; round < 4; ++round) {
+      bool more = false;
+      for (std::size_t t = 0; t < top.size(); ++t) {
+        if (joined[t] || ev_.contact_force[t] > 0) continue;
+        const int n = top[t];
+        const double r = nodes[n].r_mm + u_[2 * n] + (eq[2 * n] >= 0 ? du[eq[2 * n]] : 0.0);
+        const double z = nodes[n].z_mm + u_[2 * n + 1] + (eq[2 * n + 1] >= 0 ? du[eq[2 * n + 1]] : 0.0);
+        double g, dist;
+        Eigen::Vector2d nv;
+        pin.query(r, z, g, nv, dist);
+        if (g < 0) joined[t] = more = true;
+      }
+      if (!more) break;
+      Eigen::SparseMatrix<double> Kc = K;
+      VectorXd rc = ev_.residual;
+      for (std::size_t t = 0; t < top.size(); ++t) {
+        if (!joined[t]) continue;
+        const int n = top[t];
+        double g, dist;
+        Eigen::Vector2d nv;
+        pin.query(nodes[n].r_mm + u_[2 * n], nodes[n].z_mm + u_[2 * n + 1], g, nv, dist);
+        const double k = asm_.penalty[t], p = asm_.multiplier[t] - k * g;
+        for (int i = 0; i < 2; ++i) {
+          if (eq[2 * n + i] < 0) continue;
+          rc[eq[2 * n + i]] -= p * nv[i];
+          for (int j = 0; j < 2; ++j)
+            if (eq[2 * n + j] >= 0) Kc.coeffRef(eq[2 * n + i], eq[2 * n + j]) += k * nv[i] * nv[j];
+        }
+      }
+      ldlt_.factorize(Kc);
+      if (ldlt_.info() != Eigen::Success) break;
+      const VectorXd trial = ldlt_.solve(-rc);
+      if (!trial.allFinite() || ev_.residual.dot(trial) >= 0) break;  // not a descent direction
+      du = trial;
+    }
   }
 
   // Smallest tau = 10^k x 1e-8 x the largest diagonal entry making K + tau I positive definite
