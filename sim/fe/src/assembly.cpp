@@ -108,14 +108,12 @@ void Assembly::evaluate(const Eigen::VectorXd& u, double tip_z, bool want_stiffn
       for (int k : {0, 3})
         if (top_slots_[t][k] >= 0) ev.top_stiffness[t] = std::max(ev.top_stiffness[t], Kv[top_slots_[t][k]]);
   }
-  PinGeometry pin{model_.pin_radius_mm, tip_z};
   ev.pin_force = ev.max_penetration = ev.contact_radius = 0;
   for (std::size_t t = 0; t < top_.size(); ++t) {
     const int n = top_[t];
-    const double r = mesh_.nodes[n].r_mm + u[2 * n], z = mesh_.nodes[n].z_mm + u[2 * n + 1];
-    double g, dist;
-    Eigen::Vector2d nv;
-    pin.query(r, z, g, nv, dist);
+    const PinContact c = pin_contact(t, u, tip_z);
+    const double g = c.gap, dist = c.curvature_distance, r = mesh_.nodes[n].r_mm + u[2 * n];
+    const Eigen::Vector2d& nv = c.normal;
     ev.max_penetration = std::max(ev.max_penetration, -g);
     const double k = penalty[t];
     const double p = std::max(0.0, multiplier[t] - k * g);
@@ -137,6 +135,15 @@ void Assembly::evaluate(const Eigen::VectorXd& u, double tip_z, bool want_stiffn
     if (eq_[d] >= 0) ev.residual[eq_[d]] = f[d];
   ev.residual_norm = ev.residual.norm();
   ev.valid = std::isfinite(ev.energy) && std::isfinite(ev.residual_norm);
+}
+
+PinContact Assembly::pin_contact(std::size_t t, const Eigen::VectorXd& u, double tip_z) const {
+  const int n = top_[t];
+  PinContact c;
+  PinGeometry{model_.pin_radius_mm, tip_z}.query(mesh_.nodes[n].r_mm + u[2 * n],
+                                                 mesh_.nodes[n].z_mm + u[2 * n + 1], c.gap, c.normal,
+                                                 c.curvature_distance);
+  return c;
 }
 
 }  // namespace tocd::sim::fe

@@ -20,6 +20,13 @@ struct PinGeometry {
   void query(double r, double z, double& gap, Eigen::Vector2d& n, double& curvature_distance) const;
 };
 
+/// A skin top node against the pin (PinGeometry::query at the node's current place).
+struct PinContact {
+  double gap = 0;                 ///< > 0: outside the pin
+  Eigen::Vector2d normal;         ///< from the pin to the node
+  double curvature_distance = 0;  ///< to the hemisphere's centre (0 on the shaft)
+};
+
 /// One evaluation of the discrete problem at nodal displacements u (all dofs).
 struct Evaluation {
   bool valid = false;
@@ -49,6 +56,10 @@ class Assembly {
 
   /// Fills ev (and the stiffness when want_stiffness) for displacements u and pin tip z.
   void evaluate(const Eigen::VectorXd& u, double tip_z, bool want_stiffness, Evaluation& ev);
+
+  /// Top node `t` (an index into top_nodes()) against the pin with its tip at tip_z, at
+  /// displacements u (all dofs).
+  PinContact pin_contact(std::size_t t, const Eigen::VectorXd& u, double tip_z) const;
 
   std::vector<double> penalty, multiplier;  ///< per top node (augmented Lagrangian)
 

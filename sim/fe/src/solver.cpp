@@ -124,10 +124,8 @@ class Solver {
       // Line search on the total energy; a trial that inverts an element is never accepted.
       double s = 1;
       bool accepted = false;
-      VectorXd full = VectorXd::Zero(u_.size());
-      const auto& eq = asm_.equation();
       for (int ls = 0; ls < 12 && !accepted; ++ls) {
-        for (int d = 0; d < asm_.dofs(); ++d) full[d] = eq[d] >= 0 ? u_[d] + s * du[eq[d]] : u_[d];
+        VectorXd full = stepped(du, s);
         Evaluation e;
         asm_.evaluate(full, tip, true, e);
         if (e.valid) {
@@ -173,46 +171,47 @@ class Solver {
   // does, until the step pushes no further free node in (a few rounds). The direction changes,
   // the equations and their solution do not: the line search still weighs the true energy.
   void touch_pin(double tip, const Eigen::SparseMatrix<double>& K, VectorXd& du) {
-    const auto& nodes = asm_.mesh().nodes;
     const auto& eq = asm_.equation();
     const auto& top = asm_.top_nodes();
-    const PinGeometry pin{model_.pin_radius_mm, tip};
     std::vector<char> joined(top.size(), 0);
+    Eigen::SparseMatrix<double> Kc;  // K and the residual with the joined nodes' contact
+    VectorXd rc;
     for (int round = 0; round < 4; ++round) {
+      const VectorXd after = stepped(du, 1);
       bool more = false;
       for (std::size_t t = 0; t < top.size(); ++t) {
-        if (joined[t] || ev_.contact_force[t] > 0) continue;
+        if (joined[t] || ev_.contact_force[t] > 0 || asm_.pin_contact(t, after, tip).gap >= 0) continue;
+        if (Kc.rows() == 0) {
+          Kc = K;
+          rc = ev_.residual;
+        }
+        joined[t] = more = true;
+        const PinContact now = asm_.pin_contact(t, u_, tip);
+        const double k = asm_.penalty[t], p = asm_.multiplier[t] - k * now.gap;
         const int n = top[t];
-        const double r = nodes[n].r_mm + u_[2 * n] + (eq[2 * n] >= 0 ? du[eq[2 * n]] : 0.0);
-        const double z = nodes[n].z_mm + u_[2 * n + 1] + (eq[2 * n + 1] >= 0 ? du[eq[2 * n + 1]] : 0.0);
-        double g, dist;
-        Eigen::Vector2d nv;
-        pin.query(r, z, g, nv, dist);
-        if (g < 0) joined[t] = more = true;
-      }
-      if (!more) break;
-      Eigen::SparseMatrix<double> Kc = K;
-      VectorXd rc = ev_.residual;
-      for (std::size_t t = 0; t < top.size(); ++t) {
-        if (!joined[t]) continue;
-        const int n = top[t];
-        double g, dist;
-        Eigen::Vector2d nv;
-        pin.query(nodes[n].r_mm + u_[2 * n], nodes[n].z_mm + u_[2 * n + 1], g, nv, dist);
-        const double k = asm_.penalty[t], p = asm_.multiplier[t] - k * g;
         for (int i = 0; i < 2; ++i) {
           if (eq[2 * n + i] < 0) continue;
-          rc[eq[2 * n + i]] -= p * nv[i];
+          rc[eq[2 * n + i]] -= p * now.normal[i];
           for (int j = 0; j < 2; ++j)
-            if (eq[2 * n + j] >= 0) Kc.coeffRef(eq[2 * n + i], eq[2 * n + j]) += k * nv[i] * nv[j];
+            if (eq[2 * n + j] >= 0)
+              Kc.coeffRef(eq[2 * n + i], eq[2 * n + j]) += k * now.normal[i] * now.normal[j];
         }
       }
+      if (!more) break;
       ldlt_.factorize(Kc);
       if (ldlt_.info() != Eigen::Success) break;
       const VectorXd trial = ldlt_.solve(-rc);
       if (!trial.allFinite() || ev_.residual.dot(trial) >= 0) break;  // not a descent direction
       du = trial;
     }
+  }
+
+  /// The displacements (all dofs) a fraction s of the step du (free dofs) leads to.
+  VectorXd stepped(const VectorXd& du, double s) const {
+    const auto& eq = asm_.equation();
+    VectorXd out(u_.size());
+    for (int d = 0; d < asm_.dofs(); ++d) out[d] = eq[d] >= 0 ? u_[d] + s * du[eq[d]] : u_[d];
+    return out;
   }
 
   // Smallest tau = 10^k x 1e-8 x the largest diagonal entry making K + tau I positive definite
