@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
+#include <system_error>
 
 #include <fmt/format.h>
 
@@ -79,47 +81,43 @@ std::int16_t slot_in(const std::vector<std::int32_t>& region_ids, std::int32_t r
                                    region_ids.begin());
 }
 
-}  // namespace
-
-PreparedMesh prepare(mesh::TetMesh input) {
-  PreparedMesh p;
-  p.mesh = std::move(input);
+// Each kernel tet's face planes, relative to the kernel origin (in double before rounding).
+void fill_planes(PreparedMesh& p) {
   const auto& m = p.mesh;
-  const mesh::FaceAdjacency adj = mesh::validate(m);
-  p.box = mesh::bounding_box(m);
-  for (int k = 0; k < 3; ++k) p.origin[k] = 0.5 * (p.box.min[k] + p.box.max[k]);
-
-  p.region_ids = distinct_regions(m.regions);
-  const auto slot_of = [&](std::int32_t region) { return slot_in(p.region_ids, region); };
-  const std::size_t nt = m.tets.size();
-  p.original_of = locality_order(m, p.box);
-  std::vector<std::int32_t> kernel_of(nt);
-  for (std::size_t i = 0; i < nt; ++i)
-    kernel_of[static_cast<std::size_t>(p.original_of[i])] = static_cast<std::int32_t>(i);
-  p.tets.resize(nt);
-  p.links.resize(nt);
-  p.volume_mm3.resize(nt);
-  for (std::size_t t = 0; t < nt; ++t) p.volume_mm3[t] = mesh::tet_volume(m, t);
-  for (std::size_t kt = 0; kt < nt; ++kt) {
-    const auto t = static_cast<std::size_t>(p.original_of[kt]);
+  for (std::size_t kt = 0; kt < p.tets.size(); ++kt) {
+    const auto planes = mesh::face_planes(m, static_cast<std::size_t>(p.original_of[kt]));
     KernelTet& k = p.tets[kt];
-    KernelLink& link = p.links[kt];
-    const auto planes = mesh::face_planes(m, t);
     for (int f = 0; f < 4; ++f) {
       k.nx[f] = static_cast<float>(planes[f].normal[0]);
       k.ny[f] = static_cast<float>(planes[f].normal[1]);
       k.nz[f] = static_cast<float>(planes[f].normal[2]);
-      // Offset relative to the kernel origin, computed in double before rounding.
       const double shift = planes[f].normal[0] * p.origin[0] + planes[f].normal[1] * p.origin[1] +
                            planes[f].normal[2] * p.origin[2];
       k.offset[f] = static_cast<float>(planes[f].offset - shift);
+    }
+  }
+}
+
+// Each kernel tet's neighbours and their optics slots; a boundary face leads to its group.
+void fill_links(PreparedMesh& p, const mesh::FaceAdjacency& adj) {
+  const auto& m = p.mesh;
+  const auto slot_of = [&](std::int32_t region) { return slot_in(p.region_ids, region); };
+  const std::size_t nt = m.tets.size();
+  std::vector<std::int32_t> kernel_of(nt);
+  for (std::size_t i = 0; i < nt; ++i)
+    kernel_of[static_cast<std::size_t>(p.original_of[i])] = static_cast<std::int32_t>(i);
+  for (std::size_t kt = 0; kt < nt; ++kt) {
+    const auto t = static_cast<std::size_t>(p.original_of[kt]);
+    KernelLink& link = p.links[kt];
+    for (int f = 0; f < 4; ++f) {
       if (adj.neighbour[t][f] >= 0) {
         link.next[f] = kernel_of[static_cast<std::size_t>(adj.neighbour[t][f])];
         link.next_slot[f] = slot_of(m.regions[static_cast<std::size_t>(adj.neighbour[t][f])]);
         continue;
       }
       link.next_slot[f] = -1;
-      const BoundaryGroup g{adj.boundary_marker[t][f], classify(m, m.tets[t], f, planes[f], p.box)};
+      const auto plane = mesh::face_planes(m, t)[static_cast<std::size_t>(f)];
+      const BoundaryGroup g{adj.boundary_marker[t][f], classify(m, m.tets[t], f, plane, p.box)};
       auto it = std::find_if(p.groups.begin(), p.groups.end(), [&](const BoundaryGroup& x) {
         return x.marker == g.marker && x.side == g.side;
       });
@@ -129,6 +127,37 @@ PreparedMesh prepare(mesh::TetMesh input) {
     link.region_slot = slot_of(m.regions[t]);
     link.pad_[0] = link.pad_[1] = link.pad_[2] = 0;
   }
+}
+
+}  // namespace
+
+PreparedMesh prepare(mesh::TetMesh input) {
+  PreparedMesh p;
+  p.mesh = std::move(input);
+  const auto& m = p.mesh;
+  mesh::check_elements(m);
+  // The adjacency and the conformity check that needs it take as long as the kernel's
+  // geometry and need none of it: they run beside it, on a second thread. The mesh is only
+  // read until both are done. Where no thread can be started, it runs in turn.
+  const auto check = [&m] { return mesh::check_topology(m); };
+  std::future<mesh::FaceAdjacency> topology;
+  try {
+    topology = std::async(std::launch::async, check);
+  } catch (const std::system_error&) {
+    topology = std::async(std::launch::deferred, check);
+  }
+  p.box = mesh::bounding_box(m);
+  for (int k = 0; k < 3; ++k) p.origin[k] = 0.5 * (p.box.min[k] + p.box.max[k]);
+  const std::size_t nt = m.tets.size();
+  p.original_of = locality_order(m, p.box);
+  p.tets.resize(nt);
+  p.links.resize(nt);
+  p.volume_mm3.resize(nt);
+  for (std::size_t t = 0; t < nt; ++t) p.volume_mm3[t] = mesh::tet_volume(m, t);
+  fill_planes(p);
+  const mesh::FaceAdjacency adj = topology.get();  // a bad mesh's MeshError, first
+  p.region_ids = distinct_regions(m.regions);
+  fill_links(p, adj);
   return p;
 }
 

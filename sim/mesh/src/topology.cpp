@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <fmt/format.h>
@@ -12,9 +13,11 @@ namespace tocd::sim::mesh {
 namespace {
 
 // A tet face keyed by its sorted global node triple, with the tet*4+face it belongs to.
+// 16 bytes: the keys of a 200,000-tet mesh are 12 MB, and in a fresh allocation each page
+// costs a fault.
 struct FaceKey {
   std::array<std::int32_t, 3> nodes;
-  std::int64_t owner;  // tet * 4 + local face, or -1 - index for a listed boundary face
+  std::int32_t owner;  // tet * 4 + local face
   bool operator<(const FaceKey& o) const { return nodes < o.nodes || (nodes == o.nodes && owner < o.owner); }
 };
 
@@ -33,20 +36,50 @@ double dot(const Point3& a, const Point3& b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+// Every tet face's key, in ascending order. A counting sort on the smallest node and then a
+// sort of each node's few faces give the order that one sort of all 4 n keys gives (the
+// keys are distinct: no two share an owner), without a second copy of the keys.
+std::vector<FaceKey> sorted_face_keys(const TetMesh& mesh) {
+  const std::size_t nt = mesh.tets.size();
+  const auto nn = static_cast<std::int64_t>(mesh.nodes.size());
+  if (nt > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max() / 4))
+    throw MeshError(fmt::format("mesh has {} tets; at most {} are supported", nt,
+                                std::numeric_limits<std::int32_t>::max() / 4));
+  std::vector<std::size_t> start(static_cast<std::size_t>(nn) + 1, 0);
+  for (std::size_t t = 0; t < nt; ++t) {
+    const auto& tet = mesh.tets[t];
+    for (int k = 0; k < 4; ++k) {
+      if (tet[k] < 0 || tet[k] >= nn)
+        throw MeshError(fmt::format("tet {} refers to node {} but the mesh has {} nodes", t, tet[k], nn));
+    }
+    // A face's smallest node is the tet's smallest unless the face leaves that node out.
+    for (int f = 0; f < 4; ++f) {
+      const auto& l = kFaceLocalNodes[f];
+      ++start[static_cast<std::size_t>(std::min({tet[l[0]], tet[l[1]], tet[l[2]]})) + 1];
+    }
+  }
+  for (std::size_t n = 0; n + 1 < start.size(); ++n) start[n + 1] += start[n];
+  std::vector<FaceKey> keys(nt * 4);
+  std::vector<std::size_t> next(start.begin(), start.end() - 1);
+  for (std::size_t t = 0; t < nt; ++t) {
+    const auto& tet = mesh.tets[t];
+    for (int f = 0; f < 4; ++f) {
+      const auto& l = kFaceLocalNodes[f];
+      const FaceKey key{sorted({tet[l[0]], tet[l[1]], tet[l[2]]}), static_cast<std::int32_t>(t * 4) + f};
+      keys[next[static_cast<std::size_t>(key.nodes[0])]++] = key;
+    }
+  }
+  for (std::size_t n = 0; n + 1 < start.size(); ++n)
+    std::sort(keys.begin() + static_cast<std::ptrdiff_t>(start[n]),
+              keys.begin() + static_cast<std::ptrdiff_t>(start[n + 1]));
+  return keys;
+}
+
 }  // namespace
 
 FaceAdjacency build_face_adjacency(const TetMesh& mesh) {
   const std::size_t nt = mesh.tets.size();
-  std::vector<FaceKey> keys;
-  keys.reserve(nt * 4);
-  for (std::size_t t = 0; t < nt; ++t) {
-    for (int f = 0; f < 4; ++f) {
-      const auto& l = kFaceLocalNodes[f];
-      const auto& tet = mesh.tets[t];
-      keys.push_back({sorted({tet[l[0]], tet[l[1]], tet[l[2]]}), static_cast<std::int64_t>(t) * 4 + f});
-    }
-  }
-  std::sort(keys.begin(), keys.end());
+  const std::vector<FaceKey> keys = sorted_face_keys(mesh);
 
   FaceAdjacency adj;
   adj.neighbour.assign(nt, {-1, -1, -1, -1});
@@ -74,7 +107,8 @@ FaceAdjacency build_face_adjacency(const TetMesh& mesh) {
   for (std::size_t k = 0; k < mesh.boundary_faces.size(); ++k) {
     const auto& bf = mesh.boundary_faces[k];
     const FaceKey probe{sorted(bf.nodes), -1};
-    auto it = std::lower_bound(keys.begin(), keys.end(), FaceKey{probe.nodes, std::int64_t{-1} << 62});
+    auto it = std::lower_bound(keys.begin(), keys.end(),
+                               FaceKey{probe.nodes, std::numeric_limits<std::int32_t>::min()});
     if (it == keys.end() || it->nodes != probe.nodes) {
       throw MeshError(fmt::format("boundary face {} (nodes {} {} {}) is not a face of any tet", k,
                                   bf.nodes[0], bf.nodes[1], bf.nodes[2]));

@@ -153,11 +153,19 @@ void check_conforming(const TetMesh& mesh, const FaceAdjacency& adj) {
 
 }  // namespace
 
-FaceAdjacency validate(const TetMesh& mesh) {
+void check_elements(const TetMesh& mesh) {
   check_indices_and_volumes(mesh);
+}
+
+FaceAdjacency check_topology(const TetMesh& mesh) {
   FaceAdjacency adj = build_face_adjacency(mesh);
   check_conforming(mesh, adj);
   return adj;
+}
+
+FaceAdjacency validate(const TetMesh& mesh) {
+  check_elements(mesh);
+  return check_topology(mesh);
 }
 
 }  // namespace tocd::sim::mesh

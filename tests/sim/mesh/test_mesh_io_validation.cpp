@@ -1,5 +1,9 @@
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <numeric>
+#include <random>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -164,4 +168,55 @@ TEST(Validate, UnknownBoundaryFaceAndBadNodeIndex) {
   m = two_tets();
   m.tets[0][3] = 17;
   EXPECT_NE(error_of([&] { msh::validate(m); }).find("tet 0 refers to node 17"), std::string::npos);
+}
+
+// The adjacency against an independent count: every sorted node triple of a tet face mapped
+// to the tets that have it, on a slab whose nodes are renumbered at random (so the faces'
+// smallest nodes, by which the adjacency groups them, fall in no regular pattern).
+TEST(Validate, AdjacencyPairsExactlyTheTetsThatShareAFace) {
+  msh::SlabSpec spec;
+  spec.cells_x = 5;
+  spec.cells_y = 4;
+  spec.layers = {{0.5, 1, 3}, {1.0, 2, 4}};
+  msh::TetMesh m = msh::make_slab(spec);
+  std::vector<std::int32_t> renumber(m.nodes.size());
+  std::iota(renumber.begin(), renumber.end(), 0);
+  std::shuffle(renumber.begin(), renumber.end(), std::mt19937(7));
+  std::vector<msh::Point3> nodes(m.nodes.size());
+  for (std::size_t n = 0; n < nodes.size(); ++n) nodes[static_cast<std::size_t>(renumber[n])] = m.nodes[n];
+  m.nodes = nodes;
+  for (auto& tet : m.tets)
+    for (auto& v : tet) v = renumber[static_cast<std::size_t>(v)];
+  for (auto& f : m.boundary_faces)
+    for (auto& v : f.nodes) v = renumber[static_cast<std::size_t>(v)];
+
+  std::map<std::array<std::int32_t, 3>, std::vector<std::int32_t>> owners;
+  for (std::size_t t = 0; t < m.tets.size(); ++t)
+    for (const auto& l : msh::kFaceLocalNodes) {
+      std::array<std::int32_t, 3> key{m.tets[t][l[0]], m.tets[t][l[1]], m.tets[t][l[2]]};
+      std::sort(key.begin(), key.end());
+      owners[key].push_back(static_cast<std::int32_t>(t));
+    }
+  const msh::FaceAdjacency adj = msh::validate(m);
+  std::size_t shared = 0;
+  for (std::size_t t = 0; t < m.tets.size(); ++t)
+    for (int f = 0; f < 4; ++f) {
+      const auto& l = msh::kFaceLocalNodes[static_cast<std::size_t>(f)];
+      std::array<std::int32_t, 3> key{m.tets[t][l[0]], m.tets[t][l[1]], m.tets[t][l[2]]};
+      std::sort(key.begin(), key.end());
+      const auto& o = owners.at(key);
+      ASSERT_LE(o.size(), 2u);
+      const std::int32_t other = o.size() == 1 ? -1 : (o[0] == static_cast<std::int32_t>(t) ? o[1] : o[0]);
+      EXPECT_EQ(adj.neighbour[t][static_cast<std::size_t>(f)], other) << "tet " << t << " face " << f;
+      shared += other >= 0;
+      if (other < 0) EXPECT_NE(adj.boundary_marker[t][static_cast<std::size_t>(f)], 0) << "tet " << t;
+    }
+  EXPECT_GT(shared, m.tets.size());  // most faces are inner ones
+}
+
+TEST(Validate, AdjacencyAloneNamesABadNodeIndex) {
+  msh::TetMesh m = two_tets();
+  m.tets[1][2] = -3;
+  EXPECT_NE(error_of([&] { msh::build_face_adjacency(m); }).find("tet 1 refers to node -3"),
+            std::string::npos);
 }

@@ -38,8 +38,17 @@ std::array<FacePlane, 4> face_planes(const TetMesh& mesh, std::size_t t);
 /// tet, no inverted or degenerate tet, no face shared by more than two tets, and no
 /// non-conforming contact (a tet face lying against another tet without sharing its nodes,
 /// e.g. a hanging node). Throws MeshError naming the tet and face. Returns the adjacency
-/// so callers need not build it twice.
+/// so callers need not build it twice. The same as check_elements, then check_topology.
 FaceAdjacency validate(const TetMesh& mesh);
+
+/// The checks of validate() that need no adjacency: node indices in range and coordinates
+/// finite, one region per tet, no inverted or degenerate tet. Throws MeshError.
+void check_elements(const TetMesh& mesh);
+
+/// The rest of validate(), on a mesh that check_elements() passed: builds the adjacency,
+/// checks that no face is shared by more than two tets and that no contact is non-conforming,
+/// and returns the adjacency. Reads the mesh only, so it may run beside other readers.
+FaceAdjacency check_topology(const TetMesh& mesh);
 
 /// Axis-aligned bounding box of the nodes.
 struct BoundingBox {
