@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "tet_nodes.hpp"
 #include "tocd/sim/mesh/mesh_error.hpp"
 
 namespace tocd::sim::mesh {
@@ -41,17 +42,13 @@ double dot(const Point3& a, const Point3& b) {
 // keys are distinct: no two share an owner), without a second copy of the keys.
 std::vector<FaceKey> sorted_face_keys(const TetMesh& mesh) {
   const std::size_t nt = mesh.tets.size();
-  const auto nn = static_cast<std::int64_t>(mesh.nodes.size());
   if (nt > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max() / 4))
     throw MeshError(fmt::format("mesh has {} tets; at most {} are supported", nt,
                                 std::numeric_limits<std::int32_t>::max() / 4));
-  std::vector<std::size_t> start(static_cast<std::size_t>(nn) + 1, 0);
+  std::vector<std::size_t> start(mesh.nodes.size() + 1, 0);
   for (std::size_t t = 0; t < nt; ++t) {
+    detail::check_tet_nodes(mesh, t);  // the counts below are indexed by node
     const auto& tet = mesh.tets[t];
-    for (int k = 0; k < 4; ++k) {
-      if (tet[k] < 0 || tet[k] >= nn)
-        throw MeshError(fmt::format("tet {} refers to node {} but the mesh has {} nodes", t, tet[k], nn));
-    }
     // A face's smallest node is the tet's smallest unless the face leaves that node out.
     for (int f = 0; f < 4; ++f) {
       const auto& l = kFaceLocalNodes[f];
@@ -147,5 +144,16 @@ BoundingBox bounding_box(const TetMesh& mesh) {
   }
   return box;
 }
+
+namespace detail {
+
+void check_tet_nodes(const TetMesh& mesh, std::size_t t) {
+  const auto nn = static_cast<std::int64_t>(mesh.nodes.size());
+  for (const std::int32_t node : mesh.tets[t])
+    if (node < 0 || node >= nn)
+      throw MeshError(fmt::format("tet {} refers to node {} but the mesh has {} nodes", t, node, nn));
+}
+
+}  // namespace detail
 
 }  // namespace tocd::sim::mesh

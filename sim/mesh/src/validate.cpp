@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "tet_nodes.hpp"
 #include "tocd/sim/mesh/cell_buckets.hpp"
 #include "tocd/sim/mesh/mesh_error.hpp"
 #include "tocd/sim/mesh/topology.hpp"
@@ -15,42 +16,6 @@ namespace {
 double distance(const Point3& a, const Point3& b) {
   return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
                    (a[2] - b[2]) * (a[2] - b[2]));
-}
-
-void check_indices_and_volumes(const TetMesh& mesh) {
-  if (mesh.tets.empty()) throw MeshError("mesh has no tetrahedra");
-  if (mesh.regions.size() != mesh.tets.size()) {
-    throw MeshError(fmt::format("mesh has {} tets but {} region ids", mesh.tets.size(), mesh.regions.size()));
-  }
-  // NaN or huge coordinates would pass the volume test (NaN compares false) and break the
-  // point-location grid, so every node is checked first.
-  for (std::size_t n = 0; n < mesh.nodes.size(); ++n) {
-    for (int k = 0; k < 3; ++k) {
-      if (!(std::abs(mesh.nodes[n][k]) <= kMaxCoordinateMm)) {
-        throw MeshError(fmt::format("node {} has coordinate {} = {}; accepted -{:g} to {:g} mm", n, "xyz"[k],
-                                    mesh.nodes[n][k], kMaxCoordinateMm, kMaxCoordinateMm));
-      }
-    }
-  }
-  const auto nn = static_cast<std::int64_t>(mesh.nodes.size());
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-    const auto& tet = mesh.tets[t];
-    for (int k = 0; k < 4; ++k) {
-      if (tet[k] < 0 || tet[k] >= nn) {
-        throw MeshError(fmt::format("tet {} refers to node {} but the mesh has {} nodes", t, tet[k], nn));
-      }
-    }
-    double longest = 0.0;
-    for (int a = 0; a < 4; ++a)
-      for (int b = a + 1; b < 4; ++b)
-        longest = std::max(longest, distance(mesh.nodes[tet[a]], mesh.nodes[tet[b]]));
-    const double v = tet_volume(mesh, t);
-    // A regular tet of edge L has volume 0.118 L^3; 1e-9 L^3 is a sliver no ray test survives.
-    if (v <= 1e-9 * longest * longest * longest) {
-      throw MeshError(fmt::format("tet {} (nodes {} {} {} {}) is {} (signed volume {:.3g} mm^3)", t, tet[0],
-                                  tet[1], tet[2], tet[3], v < 0.0 ? "inverted" : "degenerate", v));
-    }
-  }
 }
 
 // Uniform grid of tet bounding boxes, for point location.
@@ -154,7 +119,34 @@ void check_conforming(const TetMesh& mesh, const FaceAdjacency& adj) {
 }  // namespace
 
 void check_elements(const TetMesh& mesh) {
-  check_indices_and_volumes(mesh);
+  if (mesh.tets.empty()) throw MeshError("mesh has no tetrahedra");
+  if (mesh.regions.size() != mesh.tets.size()) {
+    throw MeshError(fmt::format("mesh has {} tets but {} region ids", mesh.tets.size(), mesh.regions.size()));
+  }
+  // NaN or huge coordinates would pass the volume test (NaN compares false) and break the
+  // point-location grid, so every node is checked first.
+  for (std::size_t n = 0; n < mesh.nodes.size(); ++n) {
+    for (int k = 0; k < 3; ++k) {
+      if (!(std::abs(mesh.nodes[n][k]) <= kMaxCoordinateMm)) {
+        throw MeshError(fmt::format("node {} has coordinate {} = {}; accepted -{:g} to {:g} mm", n, "xyz"[k],
+                                    mesh.nodes[n][k], kMaxCoordinateMm, kMaxCoordinateMm));
+      }
+    }
+  }
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    detail::check_tet_nodes(mesh, t);
+    const auto& tet = mesh.tets[t];
+    double longest = 0.0;
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b)
+        longest = std::max(longest, distance(mesh.nodes[tet[a]], mesh.nodes[tet[b]]));
+    const double v = tet_volume(mesh, t);
+    // A regular tet of edge L has volume 0.118 L^3; 1e-9 L^3 is a sliver no ray test survives.
+    if (v <= 1e-9 * longest * longest * longest) {
+      throw MeshError(fmt::format("tet {} (nodes {} {} {} {}) is {} (signed volume {:.3g} mm^3)", t, tet[0],
+                                  tet[1], tet[2], tet[3], v < 0.0 ? "inverted" : "degenerate", v));
+    }
+  }
 }
 
 FaceAdjacency check_topology(const TetMesh& mesh) {
