@@ -3,6 +3,7 @@
 // tester's own limits are written; storage faults end the run; a second abort stops at once.
 #include <chrono>
 #include <filesystem>
+#include <regex>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -28,6 +29,19 @@ class StepTruth : public EngineFixture {
   /// Events reach the file through the writer (a commit every 0.1 s): wait for one.
   bool event_lands(std::int64_t run, const std::string& kind, const std::string& text) const {
     return eventually([&] { return has_event(tocd::db::Reader(path_), run, kind, text); }, 5.0);
+  }
+
+  /// The number of instrument faults that an event of `kind` starting `text` names ("... N
+  /// instrument fault(s)"), or -1 when no such event is in the run's file.
+  static int faults_named(const tocd::db::Reader& r, std::int64_t run, const std::string& kind,
+                          const std::string& text) {
+    static const std::regex count(R"((\d+) instrument fault\(s\))");
+    for (const auto& e : r.events(run)) {
+      std::smatch m;
+      if (e.kind == kind && e.message.rfind(text, 0) == 0 && std::regex_search(e.message, m, count))
+        return std::stoi(m[1].str());
+    }
+    return -1;
   }
 
   static std::string events_text(const tocd::db::Reader& r, std::int64_t run) {
@@ -172,9 +186,11 @@ TEST_F(StepTruth, AWindowWithAFaultIsRecordedAgain) {
   const tocd::db::Reader r(path_);
   EXPECT_TRUE(has_event(r, run, "fault", "power meter: reading nan W is not a number"))
       << events_text(r, run);
-  EXPECT_TRUE(
-      has_event(r, run, "step", "step 1: recording window is not a measurement (2 instrument fault(s)"))
-      << events_text(r, run);
+  // Both bad readings land in the window unless a loaded machine let it close between them
+  // (the second then spoils the window recorded again, which is recorded once more).
+  const int seen = faults_named(r, run, "step", "step 1: recording window is not a measurement (");
+  EXPECT_GE(seen, 1) << events_text(r, run);
+  EXPECT_LE(seen, 2) << events_text(r, run);
   EXPECT_TRUE(has_event(r, run, "step", "recording it again (1 of 2)"));
   ASSERT_EQ(r.steps(run).size(), 2u);
   expect_steps_at_target(r, run, p);
@@ -195,8 +211,14 @@ TEST_F(StepTruth, AWindowThatStaysFaultyLeavesTheStepWithoutARowAndPausesResumeR
     world->fail_tester_reads = 3;
     ASSERT_TRUE(eventually([&] { return engine.state() == EngineState::paused; }));
     {
-      EXPECT_TRUE(event_lands(run, "state",
-                              "paused: step 1 not recorded after 1 recording(s): 3 instrument fault(s)"));
+      EXPECT_TRUE(event_lands(run, "state", "paused: step 1 not recorded after 1 recording(s): "));
+      // The three failed reads come one per poll from wherever the window was when the test
+      // saw it recording; on a loaded machine the window can close before the last of them.
+      // So the pause names the faults its window saw: at least one, at most the three made.
+      const int seen = faults_named(tocd::db::Reader(path_), run, "state",
+                                    "paused: step 1 not recorded after 1 recording(s): ");
+      EXPECT_GE(seen, 1);
+      EXPECT_LE(seen, 3);
       const tocd::db::Reader r(path_);
       EXPECT_TRUE(r.steps(run).empty());
     }
