@@ -59,28 +59,20 @@ mat::Mat3 embed(const Eigen::Matrix2d& F2, double F33) {
   return F;
 }
 
-// Plane stress: out-of-plane stretch with zero total normal Kirchhoff stress, and the
-// response with that stretch condensed out (d tau_a / d x_b at tau_3 = 0, a, b in-plane).
+// Plane stress: out-of-plane stretch with zero total normal Kirchhoff stress (the law solves
+// for it), and the response with that stretch condensed out (d tau_a / d x_b at tau_3 = 0, a, b
+// in-plane).
 bool plane_stress_response(const mat::HyperelasticLaw& law, mat::Vec3& lambda, mat::PrincipalResponse& r) {
-  double x3 = -0.5 * (std::log(lambda[0]) + std::log(lambda[1]));
-  for (int it = 0; it < 50; ++it) {
-    lambda[2] = std::exp(x3);
-    r = law.total(lambda);
-    if (!(r.dtau(2, 2) > 0) || !std::isfinite(r.tau[2])) return false;
-    const double dx = -r.tau[2] / r.dtau(2, 2);
-    x3 += std::max(-0.5, std::min(0.5, dx));
-    if (std::abs(dx) < 1e-13) {
-      lambda[2] = std::exp(x3);
-      r = law.total(lambda);
-      mat::Mat3 d = mat::Mat3::Zero();
-      for (int a = 0; a < 2; ++a)
-        for (int b = 0; b < 2; ++b) d(a, b) = r.dtau(a, b) - r.dtau(a, 2) * r.dtau(2, b) / r.dtau(2, 2);
-      r.dtau = d;
-      r.tau[2] = 0;
-      return true;
-    }
-  }
-  return false;
+  lambda[2] = law.plane_stress_stretch(lambda[0], lambda[1]);
+  if (!(lambda[2] > 0)) return false;
+  r = law.total(lambda);
+  if (!(r.dtau(2, 2) > 0)) return false;
+  mat::Mat3 d = mat::Mat3::Zero();
+  for (int a = 0; a < 2; ++a)
+    for (int b = 0; b < 2; ++b) d(a, b) = r.dtau(a, b) - r.dtau(a, 2) * r.dtau(2, b) / r.dtau(2, 2);
+  r.dtau = d;
+  r.tau[2] = 0;
+  return true;
 }
 
 }  // namespace

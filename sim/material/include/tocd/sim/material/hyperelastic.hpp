@@ -47,6 +47,14 @@ class HyperelasticLaw {
   /// Total response (isochoric + volumetric) in principal log-stretch coordinates:
   /// tau_a += J U'(J), dtau(a, b) += J U' + J^2 U''.
   PrincipalResponse total(const Vec3& lambda) const;
+
+  /// Plane stress: the stretch lambda_3 at which the total tau_3 vanishes with lambda_1 and
+  /// lambda_2 held. Newton in x_3 = ln lambda_3 from the incompressible guess, steps capped at
+  /// 0.5, until a step is below 1e-13 (that step taken); 0 when it does not converge
+  /// within 50 steps or tau_3 stops rising with x_3 (the law has lost its stability there).
+  /// This evaluates total() at each step; a law may solve the same equation cheaper (the
+  /// answer then agrees within rounding).
+  virtual double plane_stress_stretch(double lambda1, double lambda2) const;
 };
 
 /// Abaqus volumetric term sum_i (1/D_i)(J - 1)^(2i) (D_i = 0: term absent).
@@ -61,6 +69,8 @@ class OgdenLaw final : public HyperelasticLaw {
   std::string describe() const override;
   double shear_modulus() const override;
   double bulk_modulus() const override;
+  /// The same Newton steps, each from one exponential per term instead of the full response.
+  double plane_stress_stretch(double lambda1, double lambda2) const override;
   const OgdenParameters& parameters() const { return p_; }
 
  private:
