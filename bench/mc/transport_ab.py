@@ -5,9 +5,10 @@ the working tree (B), both built the same way (the `release` preset, the `mc_ben
 see the same load. Problems: the 2.5 mm skin slab of `mc_bench` (2 threads) and the composite
 pin/skin/slide mesh of `tocdlab predict` at 1.5 mm (the paper preset, 2 threads). Prints, per
 problem, each side's median and range and the ratio B/A of the medians, in wall-time photons/s
-and (the slab) photons per CPU-second, which a shared machine disturbs less; and whether the
-composite's transmittance came out bit for bit the same on both sides (a kernel that keeps each
-photon's random numbers and the tallies' order must give the same bits). docs/benchmarks.md.
+and (the slab) photons per CPU-second, which a shared machine disturbs less; whether the
+composite's transmittance came out bit for bit the same on both sides, and their difference in
+combined standard errors (a kernel that keeps each photon's random numbers and the tallies'
+order gives the same bits unless its arithmetic rounds differently). docs/benchmarks.md.
 
   bench/mc/transport_ab.py --base REF [--rounds 3] [--slab-photons N] [--composite-photons N]
                            [--work build/ab] [--require RATIO]
@@ -16,7 +17,6 @@ Exit 1 when --require is given and a problem's wall-time ratio falls below it.
 """
 import argparse
 import json
-import os
 import re
 import shutil
 import statistics

@@ -16,10 +16,10 @@ struct ThicknessStress {
 };
 
 /// Newton on x_3 = ln lambda_3 from the incompressible guess (J = 1); `at(x3)` gives tau_3 and
-/// its slope there. Returns lambda_3, or 0 (see the header). The guess matters: the Abaqus
-/// volumetric term's J U'(J) falls with J below J = 1/2, so a start there (halfway to the
-/// guess from no thickness change, as this solve once began, puts a squeezed point at
-/// J = sqrt(lambda_1 lambda_2)) finds tau_3 falling and gives up on a point that has a solution.
+/// its slope there. Returns lambda_3, or 0 (see the header). The start matters: below J = 1/2
+/// the Abaqus volumetric term's J U'(J) falls with J, so a start there finds tau_3 falling and
+/// gives up on a point that has an answer. A start halfway between no thickness change and the
+/// guess puts a squeezed point there (J = sqrt(lambda_1 lambda_2)); J = 1 never does.
 template <class At>
 double thickness_newton(double x1, double x2, At&& at) {
   double x3 = -(x1 + x2);

@@ -24,8 +24,8 @@ double bisected_thickness(const mat::HyperelasticLaw& law, double l1, double l2)
   EXPECT_GT(tau3(hi), 0);
   while (hi - lo > 1e-15) {
     const double mid = 0.5 * (lo + hi);
+    if (mid <= lo || mid >= hi) break;  // no double between them: as close as it gets
     (tau3(mid) < 0 ? lo : hi) = mid;
-    if (mid == lo && mid == hi) break;
   }
   return std::exp(0.5 * (lo + hi));
 }
