@@ -5,7 +5,6 @@
 #include <functional>
 
 #include <Eigen/SparseCholesky>
-#include <Eigen/SparseLU>
 #include <fmt/format.h>
 
 #include "assembly.hpp"
@@ -22,6 +21,12 @@ namespace pin_solver {
 
 using Eigen::VectorXd;
 
+/// How far (in pin increments) Newton's step from an indefinite tangent may move an unknown and
+/// still be taken (Solver::newton). Newton iterations to 1.5 mm on the default mesh (plane
+/// stress, axisymmetric, plane strain): 148, 101, 101 with 2; 149, 103, 101 with 3; 214, 104,
+/// 105 with 1; 153, 107, 120 with 5; 172, 113, 111 with the shifted direction alone.
+constexpr double kIndefiniteStepLimit = 2;
+
 class Solver {
  public:
   Solver(const FeModel& model, const tocd::sim::material::HyperelasticLaw& law)
@@ -33,6 +38,7 @@ class Solver {
 
   /// One load increment to pin displacement d; on failure the state is restored.
   bool increment(double d, double dd_prev, double dd, int& iterations, std::string& why) {
+    increment_ = dd;
     const VectorXd u0 = u_;
     const std::vector<double> lam0 = asm_.multiplier;
     const Evaluation ev0 = ev_;
@@ -97,26 +103,27 @@ class Solver {
         for (int i = 0; i < damped.rows(); ++i) damped.coeffRef(i, i) += damping;
       }
       const Eigen::SparseMatrix<double>& K = damping > 0 ? damped : asm_.stiffness();
+      // Newton's step is trusted where the tangent is positive definite. With a non-positive
+      // pivot in its LDL^T the step heads for a saddle as readily as for the minimum: past the
+      // fold of a plane-stress section (compressed elements at the pin's edge) it ran so far
+      // along a soft direction that the line search kept fractions of 1e-4 of it, increment
+      // after increment. It is still taken when it moves no unknown by more than
+      // kIndefiniteStepLimit increments: at most increments' start the predictor has pushed
+      // nodes into the pin, whose curved surface turns their penalty force as they slide (a
+      // negative stiffness), and there Newton's step is a short correction. Otherwise the
+      // direction comes from K + tau I, tau as small as makes it positive definite (the
+      // modified Newton method): it leads down the energy.
       ldlt_.factorize(K);
+      const bool factored = ldlt_.info() == Eigen::Success;
+      const bool definite = factored && (ldlt_.vectorD().array() > 0).all();
       VectorXd du;
-      if (ldlt_.info() == Eigen::Success) du = ldlt_.solve(-ev_.residual);
-      if (ldlt_.info() != Eigen::Success || !du.allFinite() || ev_.residual.dot(du) >= 0) {
-        Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(K);  // indefinite or singular: pivoting solve
-        if (lu.info() != Eigen::Success) {
-          why = "singular stiffness";
-          return false;
-        }
-        du = lu.solve(-ev_.residual);
-      }
-      if (!du.allFinite() || ev_.residual.dot(du) >= 0) {
-        // The tangent is indefinite here (past a bifurcation of the compressed skin, where
-        // a plane-stress section may fold): its Newton step climbs the energy. The shifted
-        // tangent K + tau I, positive definite, gives a descent direction towards the stable
-        // branch; tau as small as makes it so, so Newton's rate returns where K is definite.
-        if (!shifted_direction(K, du)) {
-          why = "no descent direction";
-          return false;
-        }
+      if (factored) du = ldlt_.solve(-ev_.residual);
+      const bool newton_step =
+          factored && du.allFinite() && ev_.residual.dot(du) < 0 &&
+          (definite || du.lpNorm<Eigen::Infinity>() <= kIndefiniteStepLimit * increment_);
+      if (!newton_step && !shifted_direction(K, du)) {
+        why = "no descent direction";
+        return false;
       }
       touch_pin(tip, K, du);
       const double slope = ev_.residual.dot(du);
@@ -214,19 +221,23 @@ class Solver {
     return out;
   }
 
-  // Smallest tau = 10^k x 1e-8 x the largest diagonal entry making K + tau I positive definite
-  // (LDL^T succeeds with every pivot positive); false when none up to the diagonal's size does.
+  // The smallest tau = 10^k x 1e-8 x the largest diagonal entry (k >= 0) making K + tau I positive
+  // definite (LDL^T succeeds with every pivot positive), searched upwards from a hundredth of the
+  // last one found (neighbouring iterations need about the same shift); false when none up to the
+  // diagonal's size does. K + tau I has K's pattern, so the analysed factorisation is reused.
   bool shifted_direction(const Eigen::SparseMatrix<double>& K, VectorXd& du) {
     const double scale = K.diagonal().cwiseAbs().maxCoeff();
     if (!(scale > 0) || !std::isfinite(scale)) return false;
-    Eigen::SparseMatrix<double> identity(K.rows(), K.cols());
-    identity.setIdentity();
-    for (double tau = 1e-8 * scale; tau <= scale; tau *= 10) {
-      const Eigen::SparseMatrix<double> shifted = K + tau * identity;
-      Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(shifted);
-      if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0).all()) continue;
-      du = ldlt.solve(-ev_.residual);
-      if (du.allFinite() && ev_.residual.dot(du) < 0) return true;
+    for (double tau = std::max(1e-8 * scale, 0.01 * last_shift_); tau <= scale; tau *= 10) {
+      Eigen::SparseMatrix<double> shifted = K;
+      for (int i = 0; i < shifted.rows(); ++i) shifted.coeffRef(i, i) += tau;
+      ldlt_.factorize(shifted);
+      if (ldlt_.info() != Eigen::Success || !(ldlt_.vectorD().array() > 0).all()) continue;
+      du = ldlt_.solve(-ev_.residual);
+      if (du.allFinite() && ev_.residual.dot(du) < 0) {
+        last_shift_ = tau;
+        return true;
+      }
     }
     return false;
   }
@@ -236,6 +247,8 @@ class Solver {
   const tocd::sim::material::HyperelasticLaw& law_;
   VectorXd u_, u_prev_;
   Evaluation ev_;
+  double last_shift_ = 0;  ///< tau of the last shifted direction
+  double increment_ = 0;   ///< the pin's displacement increment being solved
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt_;
 };
 

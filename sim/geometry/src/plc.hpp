@@ -1,7 +1,8 @@
 #pragma once
 
 // The 3D piecewise-linear complex of a layout: flat box faces plus the revolution of every
-// section edge into N planar trapezoids (triangles at the axis), with region seeds.
+// section edge into N trapezoids, each given as two triangles (one triangle at the axis), with
+// region seeds. Ring points are perturbed radially within +-5e-10 of their radius (plc.cpp).
 
 #include <array>
 #include <vector>
