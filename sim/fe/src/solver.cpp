@@ -27,6 +27,14 @@ using Eigen::VectorXd;
 /// 105 with 1; 153, 107, 120 with 5; 172, 113, 111 with the shifted direction alone.
 constexpr double kIndefiniteStepLimit = 2;
 
+/// K + shift I, with K's pattern (its diagonal is stored), so the factorisation analysed for K
+/// applies to it.
+Eigen::SparseMatrix<double> plus_identity(const Eigen::SparseMatrix<double>& K, double shift) {
+  Eigen::SparseMatrix<double> out = K;
+  for (int i = 0; i < out.rows(); ++i) out.coeffRef(i, i) += shift;
+  return out;
+}
+
 class Solver {
  public:
   Solver(const FeModel& model, const tocd::sim::material::HyperelasticLaw& law)
@@ -38,7 +46,6 @@ class Solver {
 
   /// One load increment to pin displacement d; on failure the state is restored.
   bool increment(double d, double dd_prev, double dd, int& iterations, std::string& why) {
-    increment_ = dd;
     const VectorXd u0 = u_;
     const std::vector<double> lam0 = asm_.multiplier;
     const Evaluation ev0 = ev_;
@@ -62,7 +69,7 @@ class Solver {
     const double tol_pen = std::max(model_.solver.penetration_tolerance * d, 1e-9 * model_.thickness_mm);
     bool ok = ev_.valid;
     for (int aug = 0; ok && aug <= model_.solver.max_augmentations; ++aug) {
-      ok = newton(tip, iterations, why);
+      ok = newton(tip, dd, iterations, why);
       if (!ok || ev_.max_penetration <= tol_pen || aug == model_.solver.max_augmentations) break;
       for (std::size_t t = 0; t < asm_.multiplier.size(); ++t) asm_.multiplier[t] = ev_.contact_force[t];
       asm_.evaluate(u_, tip, true, ev_);
@@ -82,7 +89,8 @@ class Solver {
   Assembly& assembly() { return asm_; }
 
  private:
-  bool newton(double tip, int& iterations, std::string& why) {
+  /// Newton iterations at the pin tip's height `tip`, reached by a pin increment `dd`.
+  bool newton(double tip, double dd, int& iterations, std::string& why) {
     const double floor = 1e-12 * law_.shear_modulus() * model_.thickness_mm * model_.thickness_mm;
     // Levenberg-Marquardt damping of the tangent, in force per length: zero while Newton's full
     // steps are taken. When the line search keeps only a fraction s of a step, the step ran
@@ -98,10 +106,7 @@ class Solver {
         return true;
       ++iterations;
       Eigen::SparseMatrix<double> damped;
-      if (damping > 0) {
-        damped = asm_.stiffness();
-        for (int i = 0; i < damped.rows(); ++i) damped.coeffRef(i, i) += damping;
-      }
+      if (damping > 0) damped = plus_identity(asm_.stiffness(), damping);
       const Eigen::SparseMatrix<double>& K = damping > 0 ? damped : asm_.stiffness();
       // Newton's step is trusted where the tangent is positive definite. With a non-positive
       // pivot in its LDL^T the step heads for a saddle as readily as for the minimum: past the
@@ -118,9 +123,8 @@ class Solver {
       const bool definite = factored && (ldlt_.vectorD().array() > 0).all();
       VectorXd du;
       if (factored) du = ldlt_.solve(-ev_.residual);
-      const bool newton_step =
-          factored && du.allFinite() && ev_.residual.dot(du) < 0 &&
-          (definite || du.lpNorm<Eigen::Infinity>() <= kIndefiniteStepLimit * increment_);
+      const bool newton_step = factored && du.allFinite() && ev_.residual.dot(du) < 0 &&
+                               (definite || du.lpNorm<Eigen::Infinity>() <= kIndefiniteStepLimit * dd);
       if (!newton_step && !shifted_direction(K, du)) {
         why = "no descent direction";
         return false;
@@ -224,14 +228,12 @@ class Solver {
   // The smallest tau = 10^k x 1e-8 x the largest diagonal entry (k >= 0) making K + tau I positive
   // definite (LDL^T succeeds with every pivot positive), searched upwards from a hundredth of the
   // last one found (neighbouring iterations need about the same shift); false when none up to the
-  // diagonal's size does. K + tau I has K's pattern, so the analysed factorisation is reused.
+  // diagonal's size does.
   bool shifted_direction(const Eigen::SparseMatrix<double>& K, VectorXd& du) {
     const double scale = K.diagonal().cwiseAbs().maxCoeff();
     if (!(scale > 0) || !std::isfinite(scale)) return false;
     for (double tau = std::max(1e-8 * scale, 0.01 * last_shift_); tau <= scale; tau *= 10) {
-      Eigen::SparseMatrix<double> shifted = K;
-      for (int i = 0; i < shifted.rows(); ++i) shifted.coeffRef(i, i) += tau;
-      ldlt_.factorize(shifted);
+      ldlt_.factorize(plus_identity(K, tau));
       if (ldlt_.info() != Eigen::Success || !(ldlt_.vectorD().array() > 0).all()) continue;
       du = ldlt_.solve(-ev_.residual);
       if (du.allFinite() && ev_.residual.dot(du) < 0) {
@@ -248,7 +250,6 @@ class Solver {
   VectorXd u_, u_prev_;
   Evaluation ev_;
   double last_shift_ = 0;  ///< tau of the last shifted direction
-  double increment_ = 0;   ///< the pin's displacement increment being solved
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt_;
 };
 
