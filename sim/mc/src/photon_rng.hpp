@@ -26,6 +26,18 @@ class PhotonRng {
     if ((s_[0] | s_[1] | s_[2] | s_[3]) == 0u) s_[0] = 1u;  // the one state xoshiro cannot leave
   }
 
+  /// The generator in the state (a, b, c, d), as state(0..3) reads it back (the kernel keeps
+  /// the streams of its vector lanes in that form).
+  static PhotonRng from_state(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) noexcept {
+    PhotonRng r;
+    r.s_[0] = a;
+    r.s_[1] = b;
+    r.s_[2] = c;
+    r.s_[3] = d;
+    return r;
+  }
+  std::uint32_t state(int k) const noexcept { return s_[k]; }
+
   /// One raw 32-bit draw.
   [[gnu::always_inline]] std::uint32_t bits() noexcept {
     const std::uint32_t result = rotl(s_[0] + s_[3], 7) + s_[0];

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <numbers>
 
+#include "lanes.hpp"
 #include "launcher.hpp"
 #include "photon_rng.hpp"
 #include "tocd/sim/mc/fresnel.hpp"
@@ -56,22 +57,6 @@ struct BatchTally {
 
 namespace detail {
 
-// Four doubles in one vector (GCC/Clang vector extension): the per-face arithmetic of a step
-// is the same for all four faces, so it is written once for all lanes. Without AVX the
-// compiler splits it into SSE2 pairs.
-using Lanes4 = double __attribute__((vector_size(32)));
-using FloatLanes4 = float __attribute__((vector_size(16)));
-
-[[gnu::always_inline]] inline Lanes4 widen(const float* four) {
-  FloatLanes4 f;
-  __builtin_memcpy(&f, four, sizeof f);
-  return __builtin_convertvector(f, Lanes4);
-}
-
-[[gnu::always_inline]] inline double min_lane(Lanes4 v) {
-  return std::min(std::min(v[0], v[1]), std::min(v[2], v[3]));
-}
-
 // A packet spends ~2 interactions per tet in tissue; its next tet is one of the four
 // neighbours. Fetching their records on entry hides the memory latency that otherwise
 // dominates every crossing on meshes larger than the cache.
@@ -84,84 +69,16 @@ using FloatLanes4 = float __attribute__((vector_size(16)));
   }
 }
 
-// Natural logarithm of x in (0, 1], inline: a libm call would make the compiler spill every
-// live vector register of the packets in flight around it. Reduction x = 2^k (1 + f) with
-// sqrt(1/2) <= 1 + f < sqrt(2), then log(1 + f) = 2 atanh(s), s = f / (2 + f), with the
-// classic minimax series in s^2 (as in fdlibm's e_log.c): error below 1 ulp.
-[[gnu::always_inline]] inline double log_unit(double x) {
-  std::uint64_t bits;
-  __builtin_memcpy(&bits, &x, sizeof bits);
-  // Subtracting the bits of sqrt(1/2) puts the mantissa cut at sqrt(1/2) instead of 1.
-  const std::uint64_t shifted = bits - 0x3fe6a09e667f3bcdull;
-  const std::int64_t k = static_cast<std::int64_t>(shifted) >> 52;  // arithmetic shift
-  const std::uint64_t mbits = bits - (static_cast<std::uint64_t>(k) << 52);
-  double m;
-  __builtin_memcpy(&m, &mbits, sizeof m);
-  const double f = m - 1.0;
-  const double s = f / (2.0 + f);
-  const double z = s * s, w = z * z;
-  const double t1 =
-      w * (3.999999999940941908e-01 + w * (2.222219843214978396e-01 + w * 1.531383769920937332e-01));
-  const double t2 =
-      z * (6.666666666666735130e-01 +
-           w * (2.857142874366239149e-01 + w * (1.818357216161805012e-01 + w * 1.479819860511658591e-01)));
-  const double r = t2 + t1;
-  const double hfsq = 0.5 * f * f;
-  const double dk = static_cast<double>(k);
-  return dk * 6.93147180369123816490e-01 - ((hfsq - (s * (hfsq + r) + dk * 1.90821492927058770002e-10)) - f);
-}
-
 inline void refract(double* u, const double* m, double eta, double cos_i, double cos_t) {
   // m: unit normal towards the transmission side, u . m = cos_i > 0.
   const double k = cos_t - eta * cos_i;
   for (int c = 0; c < 3; ++c) u[c] = eta * u[c] + k * m[c];
 }
 
-// Henyey-Greenstein deflection of u (the polar angle as in MCML, Wang et al. 1995).
-[[gnu::always_inline]] inline void scatter(double* u, const KernelOptics& o, PhotonRng& rng) {
-  double ct;
-  const double xi = rng.uniform();
-  if (o.g == 0.0) {
-    ct = 2.0 * xi - 1.0;
-  } else {
-    const double tmp = o.hg_one_minus_g2 / (o.hg_one_minus_g + o.hg_two_g * xi);
-    ct = (o.hg_one_plus_g2 - tmp * tmp) * o.hg_inv_two_g;
-    ct = ct < -1.0 ? -1.0 : (ct > 1.0 ? 1.0 : ct);
-  }
-  const double st = std::sqrt(1.0 - ct * ct);
-  // Uniform azimuth without trigonometry: a uniform point (x, y) in the unit disk has angle
-  // phi with cos(phi) = (x^2 - y^2) / r^2, sin(phi) = 2xy / r^2 (von Neumann). Accepts with
-  // probability pi/4; cheaper than sincos and independent of u, so it overlaps the step.
-  // x and y take 16 bits each of one draw: a 65536^2 lattice, whose angular granularity
-  // (below 1e-4 rad except in the innermost cells, r^2 < 1e-4 rejected) is far below anything
-  // a tally resolves.
-  double x, y, r2;
-  do {
-    const std::uint32_t b = rng.bits();
-    x = (static_cast<double>(b & 0xffffu) + 0.5) * (2.0 / 65536.0) - 1.0;
-    y = (static_cast<double>(b >> 16) + 0.5) * (2.0 / 65536.0) - 1.0;
-    r2 = x * x + y * y;
-  } while (r2 > 1.0 || r2 < 1e-4);
-  const double inv_r2 = 1.0 / r2;
-  const double s_cos = st * (x * x - y * y) * inv_r2, s_sin = st * 2.0 * x * y * inv_r2;
-  // Rotate into the frame of u with an orthonormal basis (b1, b2, u) built without a square
-  // root or a pole branch (Duff et al. 2017, "Building an orthonormal basis, revisited"):
-  // the chain from the old direction to the new one, which every next step waits on, is one
-  // division and a few multiply-adds.
-  const double ux = u[0], uy = u[1], uz = u[2];
-  const double sign = std::copysign(1.0, uz);
-  const double a = -1.0 / (sign + uz);
-  const double b = ux * uy * a;
-  u[0] = s_cos * (1.0 + sign * ux * ux * a) + s_sin * b + ct * ux;
-  u[1] = s_cos * (sign * b) + s_sin * (sign + uy * uy * a) + ct * uy;
-  u[2] = -(s_cos * sign * ux + s_sin * uy) + ct * uz;
-}
-
 }  // namespace detail
 
-/// Packets each thread keeps in flight (see transport_batch). Two give +15 % photons/s over
-/// one on the skin slab benchmark; three or four add nothing measurable.
-inline constexpr int kPacketsInFlight = 2;
+/// Packets each thread keeps in flight: one per vector lane (see transport_batch).
+inline constexpr int kPacketsInFlight = lanes::kLanes;
 
 /// What a packet records for the transmittance derivatives: per region slot, the path length
 /// travelled (mm) and the number of interactions (scattering events). Empty when the run
@@ -174,29 +91,37 @@ struct PathRecord {
 template <>
 struct PathRecord<false> {};
 
-/// One packet in flight.
+/// One packet, as the kernel's scalar parts (entry, crossings of an index change, exits) see
+/// the packet of one lane.
 template <bool kRecordPaths = false>
 struct Packet {
   double p[3], u[3];  // kernel coordinates; unit direction
   double w;           // weight
   double tau;         // optical depth left to the next interaction
   std::int32_t tet;
-  std::uint64_t steps;
   PhotonRng rng;
   [[no_unique_address]] PathRecord<kRecordPaths> path;
 };
 
 namespace detail {
 
-/// One batch's transport (transport_batch below): the kernel's data, the batch's running
-/// tallies and the steps of a packet's life as methods. Every method is always inlined into
-/// run(), and the object lives on the caller's stack without its address escaping, so the
-/// compiler keeps the running tallies in registers as it did for the locals of one function:
-/// it cannot do so for the tally's own fields across stores through the tally's arrays.
+/// One batch's transport (transport_batch below): the kernel's data, the packets of the eight
+/// lanes and the batch's running tallies, with the steps of a packet's life as methods. Every
+/// method is always inlined into run(), and the object lives on the caller's stack without its
+/// address escaping.
+///
+/// A step is taken by all lanes at once: the face tests, the choice between an interaction and
+/// a crossing, the move, the deflection and the next free path are vector arithmetic with the
+/// outcome of each lane selected by masks, so no lane's outcome is a branch. What is rare or
+/// touches memory per lane runs lane by lane: the per-tet deposits, roulette, moving into the
+/// next tet, crossings where the refractive index changes, exits and relaunches.
 template <bool kDerivatives>
 class BatchTransport {
  public:
   using Packet = mc::Packet<kDerivatives>;
+  using D8 = lanes::D8;
+  using M8 = lanes::M8;
+  static constexpr int kLanes = lanes::kLanes;
 
   TOCD_MC_INLINE BatchTransport(const KernelTet* tets, const KernelLink* links, const KernelOptics* optics,
                                 const KernelSettings& s, BatchTally& tally)
@@ -210,39 +135,24 @@ class BatchTransport {
         exit_per_group_(tally.exit_per_group),
         regions_(tally.regions) {}
 
-  /// Packets in flight, advanced in turn one step each, each relaunched from next_photon when
-  /// it ends, until the batch has no photons left; then the running tallies go to the tally.
+  /// Fills the lanes from next_photon and steps them all until the batch has no photons left;
+  /// a lane whose packet ends takes the batch's next photon. Then the running tallies go to
+  /// the tally.
   template <class NextPhoton>
   TOCD_MC_INLINE void run(NextPhoton& next_photon) {
     Entry entry;
-    // Seeds the slot with photons until one enters the mesh; false when the batch is used up.
-    auto launch = [&](Packet& ph) TOCD_MC_INLINE {
-      while (next_photon(ph.rng, entry)) {
-        if (enter(ph, entry)) return true;
-      }
-      return false;
-    };
-    Packet packet[kPacketsInFlight];
-    bool live[kPacketsInFlight];
-    bool any = false;
     if constexpr (kDerivatives) {
-      for (int i = 0; i < kPacketsInFlight; ++i) {
-        packet[i].path.length = tally_.path_scratch + 2 * i * regions_;
-        packet[i].path.scatters = packet[i].path.length + regions_;
+      for (int i = 0; i < kLanes; ++i) {
+        path_[i].length = tally_.path_scratch + 2 * i * regions_;
+        path_[i].scatters = path_[i].length + regions_;
       }
     }
-    for (int i = 0; i < kPacketsInFlight; ++i) {
-      live[i] = launch(packet[i]);
-      any = any || live[i];
+    for (int i = 0; i < kLanes; ++i) launch(i, next_photon, entry);
+    while (live_ != 0) {
+      const unsigned ended = step();
+      for (unsigned e = ended; e != 0; e &= e - 1) launch(__builtin_ctz(e), next_photon, entry);
     }
-    while (any) {
-      any = false;
-#pragma GCC unroll 8
-      for (int i = 0; i < kPacketsInFlight; ++i) {
-        if (live[i] && !step(packet[i])) live[i] = launch(packet[i]);
-        any = any || live[i];
-      }
-    }
+    for (int i = 0; i < kLanes; ++i) flush_region(i);
     tally_.roulette += roulette_;
     tally_.lost += lost_;
     tally_.specular += specular_;
@@ -278,13 +188,80 @@ class BatchTransport {
     }
   }
 
-  TOCD_MC_INLINE void deposit(std::int32_t t, std::int32_t slot, double dep) {
-    if (absorbed_per_tet_) absorbed_per_tet_[t] += dep;
-    absorbed_per_region_[slot] += dep;
+  // A deposit outside the vector arithmetic (ballistic flights).
+  TOCD_MC_INLINE void deposit(int lane, double dep) {
+    if (absorbed_per_tet_) absorbed_per_tet_[tet_[lane]] += dep;
+    absorbed_region_[lane] += dep;
   }
-  TOCD_MC_INLINE void enter_tet(std::int32_t t) {
-    prefetch_neighbours(tets_, links_, links_[t]);
+  // Lane i's deposits in its region since it entered it go to the region's tally. Summed per
+  // lane first: eight lanes adding into one region's total in turn would wait on each other.
+  TOCD_MC_INLINE void flush_region(int i) {
+    if (slot_[i] >= 0) absorbed_per_region_[slot_[i]] += absorbed_region_[i];
+    absorbed_region_[i] = 0.0;
+  }
+
+  // The packet of lane i as one packet, and back.
+  TOCD_MC_INLINE Packet packet_of(int i) const {
+    Packet ph;
+    ph.p[0] = px_[i], ph.p[1] = py_[i], ph.p[2] = pz_[i];
+    ph.u[0] = ux_[i], ph.u[1] = uy_[i], ph.u[2] = uz_[i];
+    ph.w = w_[i];
+    ph.tau = tau_[i];
+    ph.tet = tet_[i];
+    ph.rng = rng_.lane(i);
+    if constexpr (kDerivatives) ph.path = path_[i];
+    return ph;
+  }
+  TOCD_MC_INLINE void put(int i, const Packet& ph) {
+    px_[i] = ph.p[0], py_[i] = ph.p[1], pz_[i] = ph.p[2];
+    ux_[i] = ph.u[0], uy_[i] = ph.u[1], uz_[i] = ph.u[2];
+    w_[i] = ph.w;
+    tau_[i] = ph.tau;
+    rng_.store(i, ph.rng);
+  }
+
+  // Lane i moves into tet t: its region's optics when the region changes, and the records of
+  // its four neighbours and its tally slot fetched ahead (the next tet is one of those
+  // neighbours; on meshes larger than the cache the crossing would otherwise wait on memory).
+  TOCD_MC_INLINE void enter_tet(int i, std::int32_t t) {
+    tet_[i] = t;
+    const KernelLink& link = links_[t];
+    prefetch_neighbours(tets_, links_, link);
     if (absorbed_per_tet_) __builtin_prefetch(absorbed_per_tet_ + t, 1);  // the next deposit goes here
+    if (link.region_slot != slot_[i]) {
+      flush_region(i);
+      const KernelOptics& o = optics_[link.region_slot];
+      slot_[i] = link.region_slot;
+      mu_t_[i] = o.mu_t;
+      inv_mu_t_[i] = o.inv_mu_t;
+      absorb_fraction_[i] = o.absorb_fraction;
+      n_[i] = o.n;
+      hg_one_minus_g2_[i] = o.hg_one_minus_g2;
+      hg_one_plus_g2_[i] = o.hg_one_plus_g2;
+      hg_one_minus_g_[i] = o.hg_one_minus_g;
+      hg_two_g_[i] = o.hg_two_g;
+      hg_inv_two_g_[i] = o.hg_inv_two_g;
+      isotropic_[i] = o.g == 0.0 ? -1 : 0;
+      ballistic_[i] = o.ballistic ? -1 : 0;
+    }
+  }
+
+  // Seeds lane i with photons from next_photon until one enters the mesh; the lane goes idle
+  // when the batch is used up.
+  template <class NextPhoton>
+  TOCD_MC_INLINE void launch(int i, NextPhoton& next_photon, Entry& entry) {
+    Packet ph;
+    if constexpr (kDerivatives) ph.path = path_[i];
+    while (next_photon(ph.rng, entry)) {
+      if (enter(ph, entry)) {
+        put(i, ph);
+        steps_[i] = 0;
+        enter_tet(i, ph.tet);
+        live_ |= 1u << i;
+        return;
+      }
+    }
+    live_ &= ~(1u << i);
   }
 
   // Entry through the ambient/mesh interface: deterministic specular split. Returns false
@@ -300,7 +277,6 @@ class BatchTransport {
       ph.u[c] = entry.dir[c];
     }
     ph.tet = entry.tet;
-    ph.steps = 0;
     const KernelTet& k = tets_[ph.tet];
     const int f = entry.face;
     const double m[3] = {-k.nx[f], -k.ny[f], -k.nz[f]};
@@ -317,112 +293,210 @@ class BatchTransport {
       ph.w = 1.0 - r;
     }
     if (s_.ambient_n != n2) refract(ph.u, m, s_.ambient_n / n2, cos_i, cos_t);
-    enter_tet(ph.tet);
     if constexpr (kDerivatives) {
       for (std::int32_t q = 0; q < regions_; ++q) ph.path.length[q] = ph.path.scatters[q] = 0.0;
     }
-    ph.tau = -log_unit(ph.rng.uniform());
+    ph.tau = -lanes::log_unit(ph.rng.uniform());
     return true;
   }
 
   // Russian roulette for a light packet: survive 1 in `chance` with `chance` times the
   // weight, so the expected weight is unchanged. Returns false when the packet died.
-  TOCD_MC_INLINE bool survives_roulette(Packet& ph) {
-    if (ph.w >= s_.roulette_threshold) return true;
-    if (ph.rng.uniform() * s_.roulette_chance < 1.0) {
-      roulette_ -= ph.w * (s_.roulette_chance - 1.0);
-      ph.w *= s_.roulette_chance;
+  TOCD_MC_INLINE bool survives_roulette(double& w, PhotonRng& rng) {
+    if (w >= s_.roulette_threshold) return true;
+    if (rng.uniform() * s_.roulette_chance < 1.0) {
+      roulette_ -= w * (s_.roulette_chance - 1.0);
+      w *= s_.roulette_chance;
       return true;
     }
-    roulette_ += ph.w;
+    roulette_ += w;
     return false;
   }
 
-  // An interaction at distance `dist` inside the current tet: move, deposit the absorbed
-  // fraction (implicit capture), deflect, play roulette, draw the next optical depth.
-  // Returns false when the packet died in roulette.
-  TOCD_MC_INLINE bool interact(Packet& ph, const KernelLink& k, const KernelOptics& o, double dist) {
-    for (int c = 0; c < 3; ++c) ph.p[c] += dist * ph.u[c];
+  // One step of every live lane: an interaction inside its tet, or a move to the nearest face
+  // and the crossing of (or reflection off) it. Returns the lanes whose packets ended.
+  TOCD_MC_INLINE unsigned step() {
+    unsigned ended = 0;
+    // Guard against a packet that stops making progress.
+    steps_ += lanes::mask_of(live_) & 1;
+    const unsigned stuck = live_ & lanes::bits_of(steps_ > static_cast<std::int64_t>(s_.max_steps));
+    for (unsigned e = stuck; e != 0; e &= e - 1) lost_ += w_[__builtin_ctz(e)];
+    ended |= stuck;
+    const unsigned active = live_ & ~stuck;
+
+    // The planes of each lane's tet (column 4q + f: normal x, y, z and offset, q = 0..3, of
+    // face f), then the cos of the direction with each outward normal and the distance of p
+    // inside each plane.
+    lanes::F16 records[kLanes];
+    for (int i = 0; i < kLanes; ++i) __builtin_memcpy(&records[i], &tets_[tet_[i]], sizeof records[i]);
+    D8 plane[16];
+    lanes::transpose(records, plane);
+    D8 cosf[4], gap[4];
+    for (int f = 0; f < 4; ++f) {
+      const D8 nx = plane[f], ny = plane[4 + f], nz = plane[8 + f];
+      cosf[f] = nx * ux_ + ny * uy_ + nz * uz_;
+      gap[f] = plane[12 + f] - (nx * px_ + ny * py_ + nz * pz_);
+    }
+    // The next interaction point p + s u lies inside the tet iff it is inside all four planes.
+    // Ballistic lanes have no interaction ahead.
+    const D8 to_event = lanes::select(ballistic_, lanes::splat(HUGE_VAL), tau_ * inv_mu_t_);
+    D8 slack = gap[0] - to_event * cosf[0];
+    for (int f = 1; f < 4; ++f) slack = lanes::min(slack, gap[f] - to_event * cosf[f]);
+    // The nearest face the packet moves towards (the first of equal ones). Slightly negative
+    // distances (round-off puts p a hair outside a plane) are clamped to 0.
+    D8 best = lanes::splat(HUGE_VAL);
+    M8 face = M8{};
+    for (int f = 0; f < 4; ++f) {
+      const D8 q = gap[f] / cosf[f];
+      const D8 d = cosf[f] > 0.0 ? (q > 0.0 ? q : D8{}) : lanes::splat(HUGE_VAL);
+      const M8 nearer = d < best;
+      best = lanes::select(nearer, d, best);
+      face = nearer ? M8{} + f : face;
+    }
+    // Inside after all when the interaction comes before the nearest face (a round-off corner).
+    // Never in a ballistic lane, whose slack may come out of the min as +inf.
+    const unsigned event = active & lanes::bits_of(((slack >= 0.0) | (to_event < best)) & ~ballistic_);
+    unsigned cross = active & ~event;
+    const unsigned lost = cross & lanes::bits_of(best == HUGE_VAL);  // zero direction: never loop
+    for (unsigned e = lost; e != 0; e &= e - 1) lost_ += w_[__builtin_ctz(e)];
+    ended |= lost;
+    cross &= ~lost;
+
+    const M8 moving = lanes::mask_of(event | cross);
+    const M8 event_m = lanes::mask_of(event);
+    const D8 dist = lanes::select(event_m, to_event, best);
+    px_ = lanes::select(moving, px_ + dist * ux_, px_);
+    py_ = lanes::select(moving, py_ + dist * uy_, py_);
+    pz_ = lanes::select(moving, pz_ + dist * uz_, pz_);
+    if (event != 0) ended |= interact(event, event_m, dist);
+    if (cross != 0) ended |= cross_faces(cross, best, face, cosf);
+    return ended;
+  }
+
+  // The lanes in `event` interact at distance `dist`: deposit the absorbed fraction (implicit
+  // capture), deflect, play roulette, draw the next optical depth. Returns the lanes that died
+  // in roulette.
+  TOCD_MC_INLINE unsigned interact(unsigned event, M8 event_m, D8 dist) {
+    const D8 dep = w_ * absorb_fraction_;
+    if (absorbed_per_tet_) {
+      for (unsigned e = event; e != 0; e &= e - 1) {
+        const int i = __builtin_ctz(e);
+        absorbed_per_tet_[tet_[i]] += dep[i];
+      }
+    }
     if constexpr (kDerivatives) {
-      ph.path.length[k.region_slot] += dist;
-      ph.path.scatters[k.region_slot] += 1.0;
+      for (unsigned e = event; e != 0; e &= e - 1) {
+        const int i = __builtin_ctz(e);
+        path_[i].length[slot_[i]] += dist[i];
+        path_[i].scatters[slot_[i]] += 1.0;
+      }
     }
-    const double dep = ph.w * o.absorb_fraction;
-    deposit(ph.tet, k.region_slot, dep);
-    ph.w -= dep;
-    ++events_;
-    scatter(ph.u, o, ph.rng);
-    if (!survives_roulette(ph)) return false;
-    ph.tau = -log_unit(ph.rng.uniform());
-    return true;
+    absorbed_region_ = lanes::select(event_m, absorbed_region_ + dep, absorbed_region_);
+    w_ = lanes::select(event_m, w_ - dep, w_);
+    events_ += static_cast<unsigned>(__builtin_popcount(event));
+    scatter(event_m);
+    unsigned died = 0;
+    const unsigned light = event & lanes::bits_of(w_ < s_.roulette_threshold);
+    for (unsigned e = light; e != 0; e &= e - 1) {
+      const int i = __builtin_ctz(e);
+      PhotonRng rng = rng_.lane(i);
+      double w = w_[i];
+      if (!survives_roulette(w, rng)) died |= 1u << i;
+      w_[i] = w;
+      rng_.store(i, rng);
+    }
+    const M8 flying = lanes::mask_of(event & ~died);
+    tau_ = lanes::select(flying, -lanes::log_unit(rng_.uniform(flying)), tau_);
+    return died;
   }
 
-  // One step of a packet: an interaction inside its tet, or a move to the nearest face and
-  // the crossing of (or reflection off) it. Returns false when the packet ended.
-  TOCD_MC_INLINE bool step(Packet& ph) {
-    if (++ph.steps > s_.max_steps) {
-      lost_ += ph.w;
-      return false;
-    }
-    const KernelTet& k = tets_[ph.tet];
-    const KernelLink& link = links_[ph.tet];
-    const KernelOptics& o = optics_[link.region_slot];
-    const double* const p = ph.p;
-    const double* const u = ph.u;
-    // cos of the direction with each outward normal, and distance of p inside each plane, for
-    // the four faces at once (one vector lane per face).
-    const Lanes4 nx = widen(k.nx), ny = widen(k.ny), nz = widen(k.nz);
-    const Lanes4 cosf = nx * u[0] + ny * u[1] + nz * u[2];
-    const Lanes4 gap = widen(k.offset) - (nx * p[0] + ny * p[1] + nz * p[2]);
-
-    // Fast path, taken by most steps in scattering tissue: the next interaction point
-    // p + s u lies inside this tet iff it is inside all four planes. Four multiply-adds and a
-    // min, no division and no data-dependent branch per face.
-    const double to_event = o.ballistic ? HUGE_VAL : ph.tau * o.inv_mu_t;
-    if (!o.ballistic) {
-      if (min_lane(gap - to_event * cosf) >= 0.0) return interact(ph, link, o, to_event);
-    }
-
-    // Slow path: the nearest face the packet moves towards. Slightly negative distances
-    // (round-off puts p a hair outside a plane) are clamped to 0.
-    // Written as selects, not branches: which face wins is unpredictable.
-    const Lanes4 q = gap / cosf;
-    const Lanes4 zero = {0.0, 0.0, 0.0, 0.0}, never = {HUGE_VAL, HUGE_VAL, HUGE_VAL, HUGE_VAL};
-    const Lanes4 d = cosf > zero ? (q > zero ? q : zero) : never;
-    const int f01 = d[1] < d[0] ? 1 : 0, f23 = d[3] < d[2] ? 3 : 2;
-    const int face = d[f23] < d[f01] ? f23 : f01;
-    const double best = d[face];
-    if (best == HUGE_VAL) {  // zero direction: cannot happen for unit u, but never loop
-      lost_ += ph.w;
-      return false;
-    }
-    if (to_event < best) return interact(ph, link, o, to_event);  // round-off corner: inside after all
-    if constexpr (kDerivatives) ph.path.length[link.region_slot] += best;
-    if (o.ballistic) {
-      const double dep = ph.w * (1.0 - std::exp(-o.mu_a * best));
-      deposit(ph.tet, link.region_slot, dep);
-      ph.w -= dep;
-      // Also here: a packet trapped by total internal reflection in weakly absorbing glass
-      // would otherwise bounce until the step guard.
-      if (!survives_roulette(ph)) return false;
-    } else {
-      ph.tau -= best * o.mu_t;
-    }
-    return cross_face(ph, k, link, o, face, cosf[face], best);
+  // Henyey-Greenstein deflection of the lanes in m, the arithmetic of detail::scatter in
+  // every lane (the polar angle as in MCML, the azimuth by rejection in the unit disk, the
+  // rotation in the frame of Duff et al. 2017); a lane whose point falls outside the disk
+  // draws again while the others wait.
+  TOCD_MC_INLINE void scatter(M8 m) {
+    const D8 xi = rng_.uniform(m);
+    const D8 tmp = hg_one_minus_g2_ / (hg_one_minus_g_ + hg_two_g_ * xi);
+    D8 ct = (hg_one_plus_g2_ - tmp * tmp) * hg_inv_two_g_;
+    ct = ct < -1.0 ? lanes::splat(-1.0) : (ct > 1.0 ? lanes::splat(1.0) : ct);
+    ct = lanes::select(isotropic_, 2.0 * xi - 1.0, ct);
+    const D8 st = lanes::sqrt(1.0 - ct * ct);
+    D8 x = lanes::splat(1.0), y = D8{}, r2 = lanes::splat(1.0);
+    M8 pending = m;
+    do {
+      const lanes::U8 b = rng_.bits(pending);
+      const D8 xs = (__builtin_convertvector(b & 0xffffu, D8) + 0.5) * (2.0 / 65536.0) - 1.0;
+      const D8 ys = (__builtin_convertvector(b >> 16, D8) + 0.5) * (2.0 / 65536.0) - 1.0;
+      const D8 rs = xs * xs + ys * ys;
+      x = lanes::select(pending, xs, x);
+      y = lanes::select(pending, ys, y);
+      r2 = lanes::select(pending, rs, r2);
+      pending &= (rs > 1.0) | (rs < 1e-4);
+    } while (lanes::bits_of(pending) != 0);
+    const D8 inv_r2 = 1.0 / r2;
+    const D8 s_cos = st * (x * x - y * y) * inv_r2, s_sin = st * 2.0 * x * y * inv_r2;
+    const D8 ux = ux_, uy = uy_, uz = uz_;
+    const D8 sign = lanes::copysign_one(uz);
+    const D8 a = -1.0 / (sign + uz);
+    const D8 b = ux * uy * a;
+    ux_ = lanes::select(m, s_cos * (1.0 + sign * ux * ux * a) + s_sin * b + ct * ux, ux);
+    uy_ = lanes::select(m, s_cos * (sign * b) + s_sin * (sign + uy * uy * a) + ct * uy, uy);
+    uz_ = lanes::select(m, -(s_cos * sign * ux + s_sin * uy) + ct * uz, uz);
   }
 
-  // Moves the packet `best` to the face and crosses it, or reflects off it (Fresnel). Returns
-  // false when the packet left the mesh.
-  TOCD_MC_INLINE bool cross_face(Packet& ph, const KernelTet& k, const KernelLink& link,
-                                 const KernelOptics& o, int face, double cos_i, double best) {
-    double* const p = ph.p;
+  // The lanes in `cross` have moved `best` to face `face` of their tet: each crosses it, or
+  // reflects off it (Fresnel). Ballistic lanes first absorb along the flight. Returns the
+  // lanes whose packets ended (left the mesh or died in roulette).
+  TOCD_MC_INLINE unsigned cross_faces(unsigned cross, D8 best, M8 face, const D8* cosf) {
+    tau_ = lanes::select(lanes::mask_of(cross) & ~ballistic_, tau_ - best * mu_t_, tau_);
+    unsigned ended = 0;
+    for (unsigned e = cross; e != 0; e &= e - 1) {
+      const int i = __builtin_ctz(e);
+      if constexpr (kDerivatives) path_[i].length[slot_[i]] += best[i];
+      if (ballistic_[i]) {
+        double w = w_[i];
+        const double dep = w * (1.0 - std::exp(-optics_[slot_[i]].mu_a * best[i]));
+        deposit(i, dep);
+        w -= dep;
+        // Also here: a packet trapped by total internal reflection in weakly absorbing glass
+        // would otherwise bounce until the step guard.
+        PhotonRng rng = rng_.lane(i);
+        const bool survives = survives_roulette(w, rng);
+        w_[i] = w;
+        rng_.store(i, rng);
+        if (!survives) {
+          ended |= 1u << i;
+          continue;
+        }
+      }
+      ++face_hits_;
+      const int f = static_cast<int>(face[i]);
+      const KernelLink& link = links_[tet_[i]];
+      const std::int32_t next = link.next[f];
+      if (next >= 0 && optics_[link.next_slot[f]].n == n_[i]) {  // the common case: on into the next tet
+        enter_tet(i, next);
+        continue;
+      }
+      Packet ph = packet_of(i);
+      if (!cross_face(ph, link, f, cosf[f][i], i)) {
+        ended |= 1u << i;
+        continue;
+      }
+      put(i, ph);
+      if (ph.tet != tet_[i]) enter_tet(i, ph.tet);
+    }
+    return ended;
+  }
+
+  // Crossing of a face where the refractive index changes or the mesh ends: the Fresnel
+  // split, then the next tet or the exit. Returns false when the packet left the mesh.
+  TOCD_MC_INLINE bool cross_face(Packet& ph, const KernelLink& link, int face, double cos_i, int lane) {
     double* const u = ph.u;
-    ++face_hits_;
-    for (int c = 0; c < 3; ++c) p[c] += best * u[c];
     const std::int32_t next = link.next[face];
-    const double n1 = o.n;
+    const double n1 = n_[lane];
     const double n2 = next >= 0 ? optics_[link.next_slot[face]].n : s_.ambient_n;
     if (n1 != n2) {
+      const KernelTet& k = tets_[ph.tet];
       const double m[3] = {k.nx[face], k.ny[face], k.nz[face]};
       double cos_t;
       const double r = fresnel_reflectance(n1, n2, cos_i, cos_t);
@@ -440,7 +514,6 @@ class BatchTransport {
       return false;
     }
     ph.tet = next;
-    enter_tet(next);
     return true;
   }
 
@@ -455,6 +528,21 @@ class BatchTransport {
   const std::int32_t regions_;
   double roulette_ = 0.0, lost_ = 0.0, specular_ = 0.0, missed_ = 0.0;
   std::uint64_t events_ = 0, face_hits_ = 0;
+
+  // The packets of the lanes: position (kernel coordinates), unit direction, weight, optical
+  // depth left to the next interaction, steps taken, random stream, tet.
+  D8 px_{}, py_{}, pz_{}, ux_{}, uy_{}, uz_{}, w_{}, tau_{};
+  M8 steps_{};
+  lanes::Rng rng_{};
+  std::int32_t tet_[kLanes] = {};
+  unsigned live_ = 0;  // bit i: lane i holds a packet
+  // Each lane's region: its optics slot and what the steps need of its optics.
+  std::int32_t slot_[kLanes] = {-1, -1, -1, -1, -1, -1, -1, -1};
+  D8 mu_t_{}, inv_mu_t_{}, absorb_fraction_{}, n_{};
+  D8 absorbed_region_{};  // deposited in the region since the lane entered it
+  D8 hg_one_minus_g2_{}, hg_one_plus_g2_{}, hg_one_minus_g_{}, hg_two_g_{}, hg_inv_two_g_{};
+  M8 isotropic_{}, ballistic_{};
+  [[no_unique_address]] PathRecord<kDerivatives> path_[kLanes];
 };
 
 }  // namespace detail
@@ -464,11 +552,11 @@ class BatchTransport {
 /// `next_photon(PhotonRng&, Entry&)` seeds the next photon's stream and samples its entry;
 /// it returns false when the batch has no photons left.
 ///
-/// Two packets are in flight at once and advance in turn, one step each. A single packet's
-/// steps form one long dependency chain (direction -> face test -> branch -> next
-/// direction) that leaves most of the core idle; a second, independent chain fills it. The
-/// order of packets and of their random draws depends only on the batch, never on the thread
-/// that runs it, so results stay bitwise reproducible.
+/// Eight packets are in flight at once, one per vector lane, and step together (see
+/// detail::BatchTransport). Each packet draws from its photon's own stream, and ended lanes
+/// take the batch's next photons in lane order, so the histories and the order of the
+/// tallies' additions depend only on the batch, never on the thread that runs it: results
+/// stay bitwise reproducible.
 /// Always inlined: its caller has ISA versions (run_batch, tocd/core/isa_dispatch.hpp), and
 /// each must hold the whole loop; left to the inliner, three callers make it too big to
 /// inline and every version would call one baseline copy.

@@ -122,9 +122,10 @@ TEST(MC_SUITE(McEnergy), LaunchedWeightIsAccountedFor) {
 }
 
 TEST(MC_SUITE(McEnergy), BatchesOfOnePhotonAreTransportedWhole) {
-  // One photon per batch: a thread keeps two packets in flight, so the second slot finds the
-  // batch used up while the first packet still has to run. Every launched photon must still
-  // be transported to the end; a skipped one would leave its weight unaccounted for.
+  // One photon per batch: a thread keeps eight packets in flight (one per vector lane), so the
+  // other lanes find the batch used up while the first packet still has to run. Every launched
+  // photon must still be transported to the end; a skipped one would leave its weight
+  // unaccounted for.
   const mc::PreparedMesh mesh = slab(10.0, 1.0);
   auto s = settings(20, 5);
   s.batches = 20;

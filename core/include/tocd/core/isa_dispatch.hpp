@@ -9,7 +9,7 @@
 // The versions name ISA extensions, not `arch=` levels: GCC inlines a callee (std::min, an
 // Eigen product) only into a caller of the same arch, and the kernels are fast only when all
 // of it inlines into each version. AVX-512 comes with VL, BW and DQ: with AVX512F alone GCC
-// widens the kernel's four-lane selects to 512-bit masked code, 30 % slower than AVX2.
+// widened the (then four-lane) kernel's selects to 512-bit masked code, 30 % slower than AVX2.
 //
 // Where the build has no dispatch (TOCD_NATIVE, clang, another architecture) TOCD_ISA_V4 and
 // TOCD_ISA_V3 are not defined and TOCD_ISA_BASE is empty: one version, for the build's flags.
