@@ -23,7 +23,6 @@ using U8 = std::uint32_t __attribute__((vector_size(4 * kLanes)));  // one 32-bi
   return D8{} + x;
 }
 
-using F8 = float __attribute__((vector_size(4 * kLanes)));
 using F16 = float __attribute__((vector_size(64)));  // one 64-byte record
 
 /// Column c of the 16-float records in rows[0..7] (record i in lane i), as doubles, for every
@@ -109,29 +108,20 @@ using F16 = float __attribute__((vector_size(64)));  // one 64-byte record
 struct Rng {
   U8 s[4];
 
-  [[gnu::always_inline]] void load(int lane, const PhotonRng& rng) {
-    for (int k = 0; k < 4; ++k) s[k][lane] = rng.state(k);
+  /// Lane i takes the stream `rng`, or gives back its own.
+  [[gnu::always_inline]] void set(int i, const PhotonRng& rng) {
+    for (int k = 0; k < 4; ++k) s[k][i] = rng.state(k);
   }
   [[gnu::always_inline]] PhotonRng lane(int i) const {
     return PhotonRng::from_state(s[0][i], s[1][i], s[2][i], s[3][i]);
   }
-  [[gnu::always_inline]] void store(int i, const PhotonRng& rng) { load(i, rng); }
 
   /// One draw in every lane; the streams of the lanes outside `advance` stay where they were.
   [[gnu::always_inline]] U8 bits(M8 advance) {
-    const U8 result = rotl(s[0] + s[3], 7) + s[0];
-    const U8 t = s[1] << 9;
-    U8 n2 = s[2] ^ s[0];
-    U8 n3 = s[3] ^ s[1];
-    const U8 n1 = s[1] ^ n2;
-    const U8 n0 = s[0] ^ n3;
-    n2 ^= t;
-    n3 = rotl(n3, 11);
+    U8 next[4] = {s[0], s[1], s[2], s[3]};
+    const U8 result = xoshiro128pp_next(next);
     const I8 keep = __builtin_convertvector(advance, I8) == 0;
-    s[0] = keep ? s[0] : n0;
-    s[1] = keep ? s[1] : n1;
-    s[2] = keep ? s[2] : n2;
-    s[3] = keep ? s[3] : n3;
+    for (int k = 0; k < 4; ++k) s[k] = keep ? s[k] : next[k];
     return result;
   }
 
@@ -139,9 +129,6 @@ struct Rng {
   [[gnu::always_inline]] D8 uniform(M8 advance) {
     return (__builtin_convertvector(bits(advance), D8) + 0.5) * (1.0 / 4294967296.0);
   }
-
- private:
-  [[gnu::always_inline]] static U8 rotl(U8 x, int k) { return (x << k) | (x >> (32 - k)); }
 };
 
 /// Natural logarithm of x in (0, 1], of one double or in every lane of a D8, inline: a libm

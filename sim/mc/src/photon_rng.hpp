@@ -6,6 +6,23 @@
 
 namespace tocd::sim::mc {
 
+/// One xoshiro128++ step on the state words s[0..3]: returns the draw and advances the state.
+/// W is a 32-bit word, or a vector of them for the kernel's lanes (lanes.hpp), which thus draw
+/// bit for bit what PhotonRng draws.
+template <class W>
+[[gnu::always_inline]] inline W xoshiro128pp_next(W (&s)[4]) noexcept {
+  const auto rotl = [](W x, int k) { return (x << k) | (x >> (32 - k)); };
+  const W result = rotl(s[0] + s[3], 7) + s[0];
+  const W t = s[1] << 9;
+  s[2] ^= s[0];
+  s[3] ^= s[1];
+  s[1] ^= s[2];
+  s[0] ^= s[3];
+  s[2] ^= t;
+  s[3] = rotl(s[3], 11);
+  return result;
+}
+
 /// The random stream of one photon. Philox4x32-10, keyed by the run seed with the photon
 /// index as counter, gives 128 bits that seed a xoshiro128++ generator for that photon alone.
 /// Any photon's stream is a function of (seed, photon index) only, so results do not depend on
@@ -39,17 +56,7 @@ class PhotonRng {
   std::uint32_t state(int k) const noexcept { return s_[k]; }
 
   /// One raw 32-bit draw.
-  [[gnu::always_inline]] std::uint32_t bits() noexcept {
-    const std::uint32_t result = rotl(s_[0] + s_[3], 7) + s_[0];
-    const std::uint32_t t = s_[1] << 9;
-    s_[2] ^= s_[0];
-    s_[3] ^= s_[1];
-    s_[1] ^= s_[2];
-    s_[0] ^= s_[3];
-    s_[2] ^= t;
-    s_[3] = rotl(s_[3], 11);
-    return result;
-  }
+  [[gnu::always_inline]] std::uint32_t bits() noexcept { return xoshiro128pp_next(s_); }
 
   /// Uniform in the open interval (0, 1): (k + 0.5) / 2^32, never 0 so log() is safe.
   [[gnu::always_inline]] double uniform() noexcept {
@@ -57,7 +64,6 @@ class PhotonRng {
   }
 
  private:
-  static std::uint32_t rotl(std::uint32_t x, int k) noexcept { return (x << k) | (x >> (32 - k)); }
   std::uint32_t s_[4] = {1u, 0u, 0u, 0u};
 };
 

@@ -217,7 +217,7 @@ class BatchTransport {
     ux_[i] = ph.u[0], uy_[i] = ph.u[1], uz_[i] = ph.u[2];
     w_[i] = ph.w;
     tau_[i] = ph.tau;
-    rng_.store(i, ph.rng);
+    rng_.set(i, ph.rng);
   }
 
   // Lane i moves into tet t: its region's optics when the region changes, and the records of
@@ -313,6 +313,16 @@ class BatchTransport {
     return false;
   }
 
+  // survives_roulette for the packet of lane i.
+  TOCD_MC_INLINE bool lane_survives_roulette(int i) {
+    PhotonRng rng = rng_.lane(i);
+    double w = w_[i];
+    const bool survives = survives_roulette(w, rng);
+    w_[i] = w;
+    rng_.set(i, rng);
+    return survives;
+  }
+
   // One step of every live lane: an interaction inside its tet, or a move to the nearest face
   // and the crossing of (or reflection off) it. Returns the lanes whose packets ended.
   TOCD_MC_INLINE unsigned step() {
@@ -399,21 +409,19 @@ class BatchTransport {
     const unsigned light = event & lanes::bits_of(w_ < s_.roulette_threshold);
     for (unsigned e = light; e != 0; e &= e - 1) {
       const int i = __builtin_ctz(e);
-      PhotonRng rng = rng_.lane(i);
-      double w = w_[i];
-      if (!survives_roulette(w, rng)) died |= 1u << i;
-      w_[i] = w;
-      rng_.store(i, rng);
+      if (!lane_survives_roulette(i)) died |= 1u << i;
     }
     const M8 flying = lanes::mask_of(event & ~died);
     tau_ = lanes::select(flying, -lanes::log_unit(rng_.uniform(flying)), tau_);
     return died;
   }
 
-  // Henyey-Greenstein deflection of the lanes in m, the arithmetic of detail::scatter in
-  // every lane (the polar angle as in MCML, the azimuth by rejection in the unit disk, the
-  // rotation in the frame of Duff et al. 2017); a lane whose point falls outside the disk
-  // draws again while the others wait.
+  // Henyey-Greenstein deflection of the lanes in m: the polar angle as in MCML (Wang et al.
+  // 1995); the azimuth without trigonometry, from a uniform point (x, y) in the unit disk
+  // (cos = (x^2 - y^2) / r^2, sin = 2xy / r^2; x and y take 16 bits each of one draw; r^2 < 1e-4
+  // is rejected too), a lane whose point falls outside drawing again while the others wait;
+  // the rotation into the frame of the old direction with an orthonormal basis built without
+  // a square root or a pole branch (Duff et al. 2017).
   TOCD_MC_INLINE void scatter(M8 m) {
     const D8 xi = rng_.uniform(m);
     const D8 tmp = hg_one_minus_g2_ / (hg_one_minus_g_ + hg_two_g_ * xi);
@@ -454,17 +462,12 @@ class BatchTransport {
       const int i = __builtin_ctz(e);
       if constexpr (kDerivatives) path_[i].length[slot_[i]] += best[i];
       if (ballistic_[i]) {
-        double w = w_[i];
-        const double dep = w * (1.0 - std::exp(-optics_[slot_[i]].mu_a * best[i]));
+        const double dep = w_[i] * (1.0 - std::exp(-optics_[slot_[i]].mu_a * best[i]));
         deposit(i, dep);
-        w -= dep;
+        w_[i] -= dep;
         // Also here: a packet trapped by total internal reflection in weakly absorbing glass
         // would otherwise bounce until the step guard.
-        PhotonRng rng = rng_.lane(i);
-        const bool survives = survives_roulette(w, rng);
-        w_[i] = w;
-        rng_.store(i, rng);
-        if (!survives) {
+        if (!lane_survives_roulette(i)) {
           ended |= 1u << i;
           continue;
         }

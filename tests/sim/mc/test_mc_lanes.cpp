@@ -23,7 +23,7 @@ TEST(McLanes, EachLaneDrawsItsPhotonsStreamWhateverTheOtherLanesDo) {
   lanes::Rng vec{};
   for (int i = 0; i < lanes::kLanes; ++i) {
     scalar[i] = mc::PhotonRng(12345, 1000 + i);
-    vec.load(i, scalar[i]);
+    vec.set(i, scalar[i]);
   }
   std::mt19937 pick(7);
   for (int round = 0; round < 2000; ++round) {
