@@ -17,22 +17,28 @@ may move. Prints each difference in combined standard errors and the count beyon
 import argparse
 import json
 import statistics
-import subprocess
 import sys
+import tomllib
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-import transport_ab  # noqa: E402  (shares its unpacking and building of side A)
+import transport_ab  # noqa: E402  (its command runner, and its unpacking and building of a revision)
 
-DEMO_STEPS_MM = [0.0, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5]  # protocols/demo.toml
+
+
+def demo_steps_mm():
+    """The demo protocol's displacements: a list, or an even range {from, to, count}."""
+    with open(transport_ab.REPO / "protocols" / "demo.toml", "rb") as f:
+        d = tomllib.load(f)["steps"]["displacements_mm"]
+    if isinstance(d, list):
+        return [float(x) for x in d]
+    n = int(d["count"])
+    return [d["from"] + (d["to"] - d["from"]) * k / (n - 1) for k in range(n)]
 
 
 def predict(binary, *args):
-    cmd = [str(binary), "-q", "predict", "--threads", "2", "--json", *[str(a) for a in args]]
-    out = subprocess.run(cmd, stdout=subprocess.PIPE, text=True)
-    if out.returncode != 0:
-        sys.exit(f"predict_ab: {' '.join(cmd)} failed ({out.returncode})")
-    return json.loads(out.stdout)
+    cmd = [binary, "-q", "predict", "--threads", "2", "--json", *args]
+    return json.loads(transport_ab.sh([str(c) for c in cmd], quiet=True))
 
 
 def share_run(binary):
@@ -46,7 +52,7 @@ def share_run(binary):
 def cases():
     yield "glass only", ["--baseline"]
     for optics in ("threshold", "graded"):
-        for d in DEMO_STEPS_MM:
+        for d in demo_steps_mm():
             yield f"{optics} {d:.2f} mm", ["--optics", optics, "--displacement", d]
 
 
@@ -59,18 +65,20 @@ def main():
     side_a = ap.add_mutually_exclusive_group(required=True)
     side_a.add_argument("--base", help="git revision of side A, unpacked and built under --work")
     side_a.add_argument("--a-bin", type=Path, help="side A's tocdlab, already built")
-    ap.add_argument("--b-bin", type=Path, default=transport_ab.REPO / "build" / "release" / "bin" / "tocdlab",
-                    help="side B's tocdlab (default: the working tree's release build, built first)")
+    ap.add_argument("--b-bin", type=Path, help="side B's tocdlab (default: the working tree's release build, built first)")
     ap.add_argument("--rounds", type=int, default=3, help="set-up share runs of each side")
     ap.add_argument("--steps", action="store_true", help="also compare T and side loss at every demo step")
     ap.add_argument("--eq-photons", type=int, default=1000000)
     ap.add_argument("--work", type=Path, default=transport_ab.REPO / "build" / "ab")
     a = ap.parse_args()
+    if a.rounds < 1:
+        sys.exit("predict_ab: --rounds must be at least 1")
     if a.base:
         a.work.mkdir(parents=True, exist_ok=True)
         _, src = transport_ab.source_of(a.base, a.work)
         a.a_bin = transport_ab.build(src) / "tocdlab"
-        transport_ab.build(transport_ab.REPO)
+    if a.b_bin is None:
+        a.b_bin = transport_ab.build(transport_ab.REPO) / "tocdlab"
     bins = {"A": a.a_bin, "B": a.b_bin}
     runs = {"A": [], "B": []}
     for r in range(a.rounds):
