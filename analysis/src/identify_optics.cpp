@@ -33,10 +33,15 @@ const char* kNames[kParameters] = {"cleared_mu_a_fraction", "cleared_mu_s_fracti
 const char* kDescriptions[kParameters] = {"fully cleared mu_a / native", "fully cleared mu_s / native",
                                           "fully cleared n / native",
                                           "compressive log strain of full clearing"};
-// The fit's start: the middle of each plausible range, a state that favours no sample. (The
-// published most cleared state, 0.6, 0.6, 1.1 and 0.5, is also the default simulated sample's
-// truth: a fit started there on the demo run could end where it began and look right.)
-const Eigen::Vector4d kStart(0.55, 0.55, 1.065, 0.55);
+// The fit's start: the middle of each plausible range (0.55, 0.55, 1.065, 0.55), a state that
+// favours no sample. (The published most cleared state, 0.6, 0.6, 1.1 and 0.5, is also the
+// default simulated sample's truth: a fit started there on the demo run could end where it
+// began and look right.) The ranges are all linear, so the middle is the arithmetic mean.
+const Eigen::Vector4d kStart = [] {
+  Eigen::Vector4d middle;
+  for (int k = 0; k < kParameters; ++k) middle(k) = 0.5 * (kRanges[k].lo + kRanges[k].hi);
+  return middle;
+}();
 // Central-difference steps of the common-random-number derivatives.
 constexpr double kStepN = 0.01, kStepStrain = 0.03;
 
