@@ -268,6 +268,57 @@ std::string surfaces_at_fault(const Plc& plc, const Section& section) {
                   names.empty() ? std::string{} : fmt::format(" (surfaces involved: {})", names)));
 }
 
+/// Mirrors the mesh across the plane where coordinate `axis` is 0, whose faces carry
+/// `marker`: every node off the plane gets its image, every tet and every face off the plane
+/// its mirrored copy; the plane's faces, now between a tet and its image, are dropped. The
+/// nodes of those faces are put exactly on the plane (a point TetGen placed in it may be off
+/// by rounding), so each is its own image and the two halves share the plane's triangulation.
+void mirror(MeshOutput& out, int axis, int marker) {
+  const std::size_t nodes = out.points.size() / 3;
+  std::vector<bool> on_plane(nodes, false);
+  const std::size_t faces = out.faces.size() / 3;
+  for (std::size_t f = 0; f < faces; ++f)
+    if (out.face_markers[f] == marker)
+      for (std::size_t k = 0; k < 3; ++k) on_plane[static_cast<std::size_t>(out.faces[3 * f + k])] = true;
+  std::vector<int> image(nodes);
+  out.points.reserve(6 * nodes);
+  for (std::size_t i = 0; i < nodes; ++i) {
+    if (on_plane[i]) {
+      out.points[3 * i + static_cast<std::size_t>(axis)] = 0.0;
+      image[i] = static_cast<int>(i);
+      continue;
+    }
+    image[i] = static_cast<int>(out.points.size() / 3);
+    for (std::size_t k = 0; k < 3; ++k)
+      out.points.push_back(k == static_cast<std::size_t>(axis) ? -out.points[3 * i + k]
+                                                               : out.points[3 * i + k]);
+  }
+  const auto at = [&](int node) { return image[static_cast<std::size_t>(node)]; };
+  const std::size_t tets = out.tets.size() / 4;
+  out.tets.reserve(8 * tets);
+  for (std::size_t t = 0; t < tets; ++t) {
+    // Two corners swapped: a mirror turns a tet's orientation over.
+    const std::array<int, 4> copy{at(out.tets[4 * t]), at(out.tets[4 * t + 1]), at(out.tets[4 * t + 3]),
+                                  at(out.tets[4 * t + 2])};
+    out.tets.insert(out.tets.end(), copy.begin(), copy.end());
+  }
+  if (!out.region.empty())
+    for (std::size_t t = 0; t < tets; ++t) out.region.push_back(out.region[t]);
+  std::vector<int> kept_faces, kept_markers;
+  for (int copy = 0; copy < 2; ++copy)
+    for (std::size_t f = 0; f < faces; ++f) {
+      if (out.face_markers[f] == marker) continue;
+      const int* v = &out.faces[3 * f];
+      if (copy == 0)
+        kept_faces.insert(kept_faces.end(), {v[0], v[1], v[2]});
+      else
+        kept_faces.insert(kept_faces.end(), {at(v[0]), at(v[2]), at(v[1])});
+      kept_markers.push_back(out.face_markers[f]);
+    }
+  out.faces = std::move(kept_faces);
+  out.face_markers = std::move(kept_markers);
+}
+
 tocd::sim::mesh::TetMesh to_tet_mesh(const MeshOutput& out, const Section& section) {
   tocd::sim::mesh::TetMesh mesh;
   mesh.nodes.resize(out.points.size() / 3);
@@ -299,8 +350,15 @@ tocd::sim::mesh::TetMesh to_tet_mesh(const MeshOutput& out, const Section& secti
 tocd::sim::mesh::TetMesh tetrahedralize(const Plc& plc, const Section& section, const std::string& switches,
                                         const std::atomic<bool>* cancel) {
   // z: 0-based output; A: region attributes from the seeds.
-  const ChildOutcome outcome = mesh_in_child(plc, switches + "zA", cancel);
+  ChildOutcome outcome = mesh_in_child(plc, switches + "zA", cancel);
   if (outcome.code != 0) reject(outcome.code, plc, section);
+  if (plc.quadrant) {
+    if (outcome.output.face_markers.size() * 3 != outcome.output.faces.size())
+      throw GeometryError(
+          "TetGen's quadrant mesh came back without face markers: its symmetry planes are unknown");
+    mirror(outcome.output, 0, kSymmetryPlaneX + 1);
+    mirror(outcome.output, 1, kSymmetryPlaneY + 1);
+  }
   return to_tet_mesh(outcome.output, section);
 }
 

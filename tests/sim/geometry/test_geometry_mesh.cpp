@@ -1,6 +1,10 @@
 // The composite mesh is conforming, its regions have the volumes of the geometry they
 // mesh, and its outer faces carry the right markers.
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <map>
 #include <numbers>
 
 #include <gtest/gtest.h>
@@ -91,6 +95,44 @@ TEST_P(CompositeCase, MeshIsConforming) {
     }
   }
   EXPECT_EQ(boundary, m.mesh.boundary_faces.size());
+}
+
+// TetGen meshes one quadrant and the mesher mirrors it across x = 0 and y = 0: every node has
+// its images among the nodes (a negation is exact), and every tet has its image tet (the same
+// four image nodes) in the same region. A quadrant whose plane nodes were off the plane would
+// leave unmatched images; one whose halves did not share them fails MeshIsConforming.
+TEST_P(CompositeCase, MeshIsMirrorSymmetric) {
+  const auto& m = geo::testing::mesh_of(GetParam());
+  using Point = std::array<double, 3>;
+  using Corners = std::array<std::size_t, 4>;
+  std::map<Point, std::size_t> node_at;
+  for (std::size_t i = 0; i < m.mesh.nodes.size(); ++i) node_at[m.mesh.nodes[i]] = i;
+  std::map<Corners, std::int32_t> region_of;
+  const auto sorted = [](Corners c) {
+    std::sort(c.begin(), c.end());
+    return c;
+  };
+  for (std::size_t t = 0; t < m.mesh.tets.size(); ++t) {
+    const auto& v = m.mesh.tets[t];
+    region_of[sorted({std::size_t(v[0]), std::size_t(v[1]), std::size_t(v[2]), std::size_t(v[3])})] =
+        m.mesh.regions[t];
+  }
+  for (const Point sign : {Point{-1, 1, 1}, Point{1, -1, 1}}) {
+    std::vector<std::size_t> image(m.mesh.nodes.size());
+    for (std::size_t i = 0; i < m.mesh.nodes.size(); ++i) {
+      const auto& x = m.mesh.nodes[i];
+      const auto found = node_at.find({sign[0] * x[0], sign[1] * x[1], x[2]});
+      ASSERT_NE(found, node_at.end()) << "no image of node (" << x[0] << ", " << x[1] << ", " << x[2] << ")";
+      image[i] = found->second;
+    }
+    for (std::size_t t = 0; t < m.mesh.tets.size(); ++t) {
+      const auto& v = m.mesh.tets[t];
+      const auto found = region_of.find(sorted({image[std::size_t(v[0])], image[std::size_t(v[1])],
+                                                image[std::size_t(v[2])], image[std::size_t(v[3])]}));
+      ASSERT_NE(found, region_of.end()) << "no image of tet " << t;
+      EXPECT_EQ(found->second, m.mesh.regions[t]) << "tet " << t;
+    }
+  }
 }
 
 TEST_P(CompositeCase, RegionVolumesMatchTheGeometry) {
