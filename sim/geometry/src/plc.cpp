@@ -45,9 +45,7 @@ class PlcBuilder {
 
     // Box: bottom, the two outer sides (one rectangle per layer and side: slide, skin, air),
     // air top around the pin.
-    add_facet({{axis_point(heights.front()), corners_.at(heights.front())[0], corners_.at(heights.front())[1],
-                corners_.at(heights.front())[2]}},
-              kSlideBottom);
+    add_quarter_annulus(heights.front(), nullptr, nullptr, kSlideBottom);
     for (std::size_t k = 0; k + 1 < heights.size(); ++k) {
       const auto& lo = corners_.at(heights[k]);
       const auto& hi = corners_.at(heights[k + 1]);

@@ -26,6 +26,15 @@ namespace tocd::sim::geometry::detail {
 
 namespace {
 
+/// TetGen's facet marker of a section surface, and back: markers start at 1, since TetGen
+/// gives 0 to faces of no facet.
+constexpr int marker_of(int surface) {
+  return surface + 1;
+}
+constexpr int surface_of(int marker) {
+  return marker - 1;
+}
+
 void fill_input(const Plc& plc, tetgenio& in) {
   in.firstnumber = 0;
   in.numberofpoints = static_cast<int>(plc.points.size());
@@ -55,7 +64,7 @@ void fill_input(const Plc& plc, tetgenio& in) {
       for (std::size_t h = 0; h < src.holes.size(); ++h)
         for (int k = 0; k < 3; ++k) dst.holelist[3 * h + k] = src.holes[h][k];
     }
-    in.facetmarkerlist[f] = src.surface + 1;
+    in.facetmarkerlist[f] = marker_of(src.surface);
   }
   in.numberofregions = static_cast<int>(plc.seeds.size());
   in.regionlist = new REAL[plc.seeds.size() * 5];
@@ -248,7 +257,7 @@ ChildOutcome mesh_in_child(const Plc& plc, const std::string& switches, const st
 /// Reruns TetGen's intersection detection (in a child) and names the surfaces it reports.
 std::string surfaces_at_fault(const Plc& plc, const Section& section) {
   std::set<int> surfaces;
-  for (const int m : mesh_in_child(plc, "pdzQ", nullptr).output.face_markers) surfaces.insert(m - 1);
+  for (const int m : mesh_in_child(plc, "pdzQ", nullptr).output.face_markers) surfaces.insert(surface_of(m));
   std::string names;
   for (int s : surfaces) {
     if (s < 0 || s >= static_cast<int>(section.surfaces.size())) continue;
@@ -305,11 +314,11 @@ void mirror(MeshOutput& out, int axis, int marker) {
   if (!out.region.empty())
     for (std::size_t t = 0; t < tets; ++t) out.region.push_back(out.region[t]);
   std::vector<int> kept_faces, kept_markers;
-  for (int copy = 0; copy < 2; ++copy)
+  for (const bool image_side : {false, true})
     for (std::size_t f = 0; f < faces; ++f) {
       if (out.face_markers[f] == marker) continue;
       const int* v = &out.faces[3 * f];
-      if (copy == 0)
+      if (!image_side)
         kept_faces.insert(kept_faces.end(), {v[0], v[1], v[2]});
       else
         kept_faces.insert(kept_faces.end(), {at(v[0]), at(v[2]), at(v[1])});
@@ -336,7 +345,7 @@ tocd::sim::mesh::TetMesh to_tet_mesh(const MeshOutput& out, const Section& secti
     mesh.regions[t] = out.region.empty() ? 0 : static_cast<std::int32_t>(out.region[t]);
   }
   for (std::size_t f = 0; f < out.faces.size() / 3; ++f) {
-    const int surface = out.face_markers.empty() ? -1 : out.face_markers[f] - 1;
+    const int surface = out.face_markers.empty() ? -1 : surface_of(out.face_markers[f]);
     if (surface < 0 || surface >= static_cast<int>(section.surfaces.size())) continue;
     const int marker = section.surfaces[static_cast<std::size_t>(surface)].boundary_marker;
     if (marker <= 0) continue;
@@ -356,8 +365,8 @@ tocd::sim::mesh::TetMesh tetrahedralize(const Plc& plc, const Section& section, 
     if (outcome.output.face_markers.size() * 3 != outcome.output.faces.size())
       throw GeometryError(
           "TetGen's quadrant mesh came back without face markers: its symmetry planes are unknown");
-    mirror(outcome.output, 0, kSymmetryPlaneX + 1);
-    mirror(outcome.output, 1, kSymmetryPlaneY + 1);
+    mirror(outcome.output, 0, marker_of(kSymmetryPlaneX));
+    mirror(outcome.output, 1, marker_of(kSymmetryPlaneY));
   }
   return to_tet_mesh(outcome.output, section);
 }
