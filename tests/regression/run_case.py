@@ -32,7 +32,10 @@ case.json:
 Comparison: values are addressed by dotted paths ("compare.steps.3.load_N": list entries by
 their index); a rule's "path" is a glob over that path (fnmatch: "*" also crosses dots). The
 first rule that matches a value decides: "ignore" drops it (from the output and from the
-reference); "abs" and/or "rel" accept |out - ref| <= max(abs, rel * |ref|) for numbers; with
+reference); "abs" and/or "rel" accept |out - ref| <= max(abs, rel * |ref|) for numbers;
+"factor" accepts a positive number within that factor of a positive reference either way
+(ref / factor <= out <= ref * factor: for scale statistics such as a standard error, whose
+uncertainty is a fraction of itself in both directions); with
 no rule a value must be equal, numbers bit for bit (the JSON writer prints the shortest text
 that reads back as the same double, so equal text is equal bits). Keys present on one side
 only, list lengths and types must match too.
@@ -121,7 +124,12 @@ def compare(out, ref, rules, path="", problems=None):
         rule = rule_for(path, rules)
         if out == ref:
             return problems
-        if rule and ("abs" in rule or "rel" in rule):
+        if rule and "factor" in rule:
+            f = rule["factor"]
+            if ref > 0 and math.isfinite(out) and ref / f <= out <= ref * f:
+                return problems
+            problems.append(f"{path}: {out!r}, reference {ref!r} (not within a factor {f:g} of it)")
+        elif rule and ("abs" in rule or "rel" in rule):
             tol = max(rule.get("abs", 0.0), rule.get("rel", 0.0) * abs(ref))
             if math.isfinite(out) and abs(out - ref) <= tol:
                 return problems
