@@ -14,7 +14,7 @@ def problems(out, ref, rules):
 class Rules(unittest.TestCase):
     def test_no_rule_means_bit_for_bit(self):
         self.assertEqual(problems(0.1, 0.1, []), [])
-        self.assertEqual(len(problems(0.1 + 1e-17 * 8, 0.1, [])), 1)
+        self.assertEqual(len(problems(math.nextafter(0.1, 1.0), 0.1, [])), 1)
 
     def test_abs_and_rel_take_the_larger(self):
         rules = [{"path": "v", "abs": 0.01, "rel": 0.1}]
@@ -36,9 +36,13 @@ class Rules(unittest.TestCase):
         self.assertEqual(len(problems(1e-4, 0.0, [{"path": "v", "factor": 3}])), 1)
 
     def test_first_matching_rule_decides(self):
-        rules = [{"path": "v", "ignore": True}, {"path": "v", "abs": 0}]
-        self.assertEqual(run_case.strip_ignored({"v": 1, "w": 2}, rules), {"w": 2})
+        loose, exact = {"path": "v", "rel": 0.5}, {"path": "v", "abs": 0}
+        self.assertEqual(problems(1.4, 1.0, [loose, exact]), [])
+        self.assertEqual(len(problems(1.4, 1.0, [exact, loose])), 1)
 
+    def test_ignore_drops_the_value_from_both_sides(self):
+        rules = [{"path": "v", "ignore": True}]
+        self.assertEqual(run_case.strip_ignored({"v": 1, "w": 2}, rules), {"w": 2})
 
 if __name__ == "__main__":
     unittest.main()
