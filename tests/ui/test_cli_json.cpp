@@ -198,6 +198,14 @@ TEST_F(CliJson, DemoPrintsItsRunSummary) {
   // Two held steps cannot give the four optical parameters: said, not thrown.
   EXPECT_TRUE(j["identified"]["optics"].is_null());
   EXPECT_TRUE(j["identified"].contains("optics_not_identified"));
+  // Beside it, the identification held against the demo sample's truth (the default sample's
+  // stiffness scale 1.25): without the optics there are no steps to re-predict.
+  ASSERT_TRUE(j.contains("truth_check"));
+  EXPECT_EQ(j["truth_check"]["parameters"][0]["name"], "stiffness_scale");
+  EXPECT_EQ(j["truth_check"]["parameters"][0]["truth"], 1.25);
+  EXPECT_EQ(j["truth_check"]["parameters"][0]["identified"],
+            j["identified"]["mechanics"]["parameters"][1]["value"]);
+  EXPECT_TRUE(j["truth_check"]["steps"].empty());
 }
 
 namespace {

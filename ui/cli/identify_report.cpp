@@ -59,8 +59,10 @@ void print_identification(std::ostream& out, const analysis::SampleIdentificatio
     const auto& o = *id.optics;
     out << fmt::format(
         "Clearing optics: strain-graded model on each held step's FE geometry, Monte Carlo "
-        "(chi2 {:.2f} for {} degrees of freedom; {} Monte Carlo runs)\n",
-        o.chi2, o.dof, o.monte_carlo_runs);
+        "(chi2 {:.2f} for {} degrees of freedom; {} Monte Carlo runs{})\n",
+        o.chi2, o.dof, o.monte_carlo_runs,
+        o.report.converged ? ""
+                           : fmt::format("; the fit did NOT converge in {} trials", o.report.iterations));
     print_parameters(out, o.report);
     out << fmt::format("  {:>4} {:>8} {:>11} {:>9} {:>12} {:>9}\n", "step", "d_mm", "measured_T", "+-",
                        "identified_T", "+-");

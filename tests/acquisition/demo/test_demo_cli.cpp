@@ -64,6 +64,11 @@ void read_identified_T(std::vector<double>& identified_T) {
   double d = 0, measured = 0, measured_se = 0, T = 0, se = 0;
   while (rows >> step >> d >> measured >> measured_se >> T >> se) identified_T.push_back(T);
   ASSERT_EQ(identified_T.size(), 7u) << out;
+  // Below it, the identification against the simulated sample's truth: a z per step.
+  const auto truth = out.find("Against the simulated sample's truth");
+  ASSERT_NE(truth, std::string::npos) << out;
+  EXPECT_NE(out.find("determined intervals cover the truth", truth), std::string::npos) << out;
+  EXPECT_NE(out.find("of 7 steps within 1", truth), std::string::npos) << out;
 }
 
 // Every step has a measured and a predicted T in the CSV, and compression clears the tissue.

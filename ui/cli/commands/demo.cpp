@@ -41,6 +41,7 @@
 #include "tocd/mocks/sim_tissue.hpp"
 #include "tocd/mocks/sim_tissue_cache.hpp"
 #include "tocd/mocks/simulated_lab.hpp"
+#include "truth_check.hpp"
 
 namespace cli = tocd::cli;
 
@@ -182,7 +183,10 @@ void print_demo(const DemoOptions& o, const DemoRun& run, const DemoSample& samp
                                 {"truth", tocd::mocks::to_json(sample.truth)}}},
                               {"compare", acq::to_json(t)},
                               {"hold_clearing", acq::hold_clearing_json(holds)}};
-    if (id) summary["identified"] = tocd::analysis::to_json(*id);
+    if (id) {
+      summary["identified"] = tocd::analysis::to_json(*id);
+      summary["truth_check"] = cli::to_json(cli::check_against_truth(*id, sample.truth, sample.table));
+    }
     cli::print_json(summary);
     return;
   }
@@ -198,6 +202,8 @@ void print_demo(const DemoOptions& o, const DemoRun& run, const DemoSample& samp
   if (const auto id = identify ? identify_run(o, reader, run.run_id) : std::nullopt) {
     std::cout << '\n';
     tocd::cli::print_identification(std::cout, *id);
+    std::cout << '\n';
+    cli::print_truth_check(std::cout, cli::check_against_truth(*id, sample.truth, sample.table));
   }
 }
 
