@@ -30,6 +30,20 @@ an::IdentifiedParameter parameter(const std::string& name, double value, double 
   return p;
 }
 
+// A re-predicted step: its index (0-based), displacement, measured T and the re-predicted T,
+// each with its standard error.
+an::OpticsIdentification::Step step(int index, double d, double measured, double measured_se,
+                                    double predicted, double predicted_se) {
+  an::OpticsIdentification::Step s;
+  s.step_index = index;
+  s.displacement_mm = d;
+  s.measured_T = measured;
+  s.measured_T_se = measured_se;
+  s.predicted_T = predicted;
+  s.predicted_T_se = predicted_se;
+  return s;
+}
+
 // A sample identified with one Prony term, its clearing's time course and optics; the truth it
 // is held against is the default sample's (stiffness 1.25, g 0.3, tau 20 s, delayed share 0.3
 // over 20 s, cleared 0.6 / 0.6 / 1.1 at log strain 0.5).
@@ -49,21 +63,8 @@ an::SampleIdentification identification() {
   o.report.parameters.push_back(parameter("cleared_mu_a_fraction", 0.5, 0.1, 1.0));
   o.report.parameters.back().determined = false;  // an interval as wide as its range
   o.report.parameters.push_back(parameter("full_clearing_strain", 0.52, 0.45, 0.59));  // covers 0.5
-  an::OpticsIdentification::Step s;
-  s.step_index = 1;
-  s.displacement_mm = 0.25;
-  s.measured_T = 0.2;
-  s.measured_T_se = 0.0004;
-  s.predicted_T = 0.205;
-  s.predicted_T_se = 0.0012;
-  o.steps.push_back(s);
-  s.step_index = 2;
-  s.displacement_mm = 0.5;
-  s.measured_T = 0.3;
-  s.measured_T_se = 0.0;
-  s.predicted_T = 0.3;
-  s.predicted_T_se = 0.0;
-  o.steps.push_back(s);
+  o.steps.push_back(step(1, 0.25, 0.2, 0.0004, 0.205, 0.0012));
+  o.steps.push_back(step(2, 0.5, 0.3, 0.0, 0.3, 0.0));
   id.optics = o;
   return id;
 }
