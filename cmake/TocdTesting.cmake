@@ -7,12 +7,14 @@ include(GoogleTest)
 set(TOCD_SKIP_TEST_LABELS "" CACHE STRING "Test labels whose executables are not built or registered")
 
 # tocd_add_gtest(<target> LABEL <unit|integration|physics|physics-long> SOURCES <files...>
-#                [LIBS <targets...>] [TIMEOUT <seconds>])
+#                [LIBS <targets...>] [TIMEOUT <seconds>] [SERIAL])
 # One test executable carries one label; ctest discovers its cases at test time. Every test
 # links tests/support (tocd/test/...: temporary directories, files, the CLI runner).
 # The default run (`ctest --preset dev`) runs every label except physics-long.
+# SERIAL: ctest runs the cases alone, never beside another test (for a test that sets up a
+# load of its own and claims to hold under exactly that load).
 function(tocd_add_gtest target)
-  cmake_parse_arguments(ARG "" "LABEL;TIMEOUT" "SOURCES;LIBS" ${ARGN})
+  cmake_parse_arguments(ARG "SERIAL" "LABEL;TIMEOUT" "SOURCES;LIBS" ${ARGN})
   if(NOT ARG_LABEL MATCHES "^(unit|integration|physics|physics-long|soak)$")
     message(FATAL_ERROR "tocd_add_gtest(${target}): LABEL must be unit, integration, physics, physics-long or soak")
   endif()
@@ -29,8 +31,12 @@ function(tocd_add_gtest target)
   if(exclude)
     return()
   endif()
+  set(serial "")
+  if(ARG_SERIAL)
+    set(serial RUN_SERIAL TRUE)
+  endif()
   gtest_discover_tests(${target}
     DISCOVERY_MODE PRE_TEST
-    PROPERTIES LABELS ${ARG_LABEL} TIMEOUT ${ARG_TIMEOUT}
+    PROPERTIES LABELS ${ARG_LABEL} TIMEOUT ${ARG_TIMEOUT} ${serial}
     WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
 endfunction()
