@@ -37,7 +37,9 @@ using GlsModel = std::function<GlsEvaluation(const Eigen::VectorXd& theta, const
 struct GlsProblem {
   Eigen::VectorXd data;
   Eigen::MatrixXd data_covariance;
-  std::vector<PlausibleRange> ranges;  ///< every trial is kept inside these
+  /// Every trial is kept inside these: a parameter on its bound that a step pushes out is held
+  /// there for that step, and a step that would leave a range is shortened, its direction kept.
+  std::vector<PlausibleRange> ranges;
 };
 
 struct GlsFitOptions {
@@ -53,7 +55,9 @@ struct GlsFit {
   GlsEvaluation evaluation;  ///< at theta, with the free parameters' columns
   double chi2 = 0;
   int iterations = 0;
-  /// No free parameter moved by more than a fifth of its standard error in the last kept step.
+  /// No free parameter moved by more than a fifth of its standard error in the last kept step
+  /// (a step a bound cut short does not count), or every free parameter sits on a bound the
+  /// step pushes it against.
   bool converged = false;
 };
 
