@@ -8,17 +8,17 @@
 
 namespace tocd::cli {
 
-namespace {
-
-std::string interval(const analysis::IdentifiedParameter& p) {
-  if (!std::isfinite(p.lo) || !std::isfinite(p.hi)) return "none";
-  return fmt::format("[{:.5g}, {:.5g}]", p.lo, p.hi);
+std::string interval_text(double lo, double hi) {
+  if (!std::isfinite(lo) || !std::isfinite(hi)) return "none";
+  return fmt::format("[{:.5g}, {:.5g}]", lo, hi);
 }
+
+namespace {
 
 void print_parameters(std::ostream& out, const analysis::ParameterReport& rep) {
   out << fmt::format("  {:<24} {:>11}  {:<26} {}\n", "parameter", "value", "95 % interval", "determined");
   for (const auto& p : rep.parameters)
-    out << fmt::format("  {:<24} {:>11.5g}  {:<26} {}\n", p.name, p.value, interval(p),
+    out << fmt::format("  {:<24} {:>11.5g}  {:<26} {}\n", p.name, p.value, interval_text(p.lo, p.hi),
                        p.determined ? "yes" : "no: " + p.why_not);
   for (std::size_t i = 0; i < rep.parameters.size(); ++i)
     for (std::size_t j = i + 1; j < rep.parameters.size(); ++j)

@@ -3,10 +3,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 #include <optional>
 
 #include <fmt/format.h>
+
+#include "identify_report.hpp"
+#include "tocd/analysis/run_history.hpp"
 
 namespace tocd::cli {
 
@@ -44,22 +46,10 @@ int prony_terms(const an::SampleIdentification& id) {
 
 // The table's relative error at `d`: linear between its points, its end values beyond them.
 double relative_error_at(const mocks::SimTissueTable& t, double d) {
-  const auto& x = t.displacement_mm;
-  auto rel = [&t](std::size_t k) {
-    return t.transmission[k] > 0 ? t.transmission_stderr[k] / t.transmission[k] : std::nan("");
-  };
-  if (x.empty()) return std::nan("");
-  if (d <= x.front()) return rel(0);
-  if (d >= x.back()) return rel(x.size() - 1);
-  const auto hi = static_cast<std::size_t>(std::upper_bound(x.begin(), x.end(), d) - x.begin());
-  const std::size_t lo = hi - 1;
-  const double w = (d - x[lo]) / (x[hi] - x[lo]);
-  return (1 - w) * rel(lo) + w * rel(hi);
-}
-
-std::string interval(double lo, double hi) {
-  if (!std::isfinite(lo) || !std::isfinite(hi)) return "none";
-  return fmt::format("[{:.5g}, {:.5g}]", lo, hi);
+  std::vector<double> rel(t.transmission.size());
+  for (std::size_t k = 0; k < rel.size(); ++k)
+    rel[k] = t.transmission[k] > 0 ? t.transmission_stderr[k] / t.transmission[k] : std::nan("");
+  return an::interpolate(t.displacement_mm, rel, d);
 }
 
 }  // namespace
@@ -122,7 +112,7 @@ void print_truth_check(std::ostream& out, const TruthCheck& check) {
                      "95 % interval", "covers the truth");
   for (const auto& p : check.parameters)
     out << fmt::format("  {:<24} {:>11.5g} {:>11.5g}  {:<26} {}\n", p.name, p.truth, p.value,
-                       interval(p.lo, p.hi),
+                       interval_text(p.lo, p.hi),
                        !p.determined ? "(not determined)"
                        : p.covered   ? "yes"
                                      : "NO");
@@ -138,9 +128,8 @@ void print_truth_check(std::ostream& out, const TruthCheck& check) {
         s.combined_se, s.z);
   out << fmt::format(
       "  z = (identified - measured) / combined_se, with combined_se the window's scatter, the simulated "
-      "sample's own Monte Carlo error and the re-prediction's in quadrature: {} of {} steps within 1, {} "
-      "within "
-      "2 (for errors that are right, about 68 % and 95 %)\n",
+      "sample's own Monte Carlo error and the re-prediction's in quadrature: {} of {} steps within 1, "
+      "{} within 2 (for errors that are right, about 68 % and 95 %)\n",
       check.steps_within(1.0), check.steps.size(), check.steps_within(2.0));
 }
 

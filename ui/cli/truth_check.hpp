@@ -14,7 +14,6 @@
 // would blame the identification for the sample's own noise (at the default 50,000 photons
 // per point it is 0.6-1.2 % of T, as large as the re-prediction's).
 
-#include <cstdint>
 #include <ostream>
 #include <string>
 #include <vector>
