@@ -12,13 +12,22 @@ namespace tocd::analysis {
 
 namespace {
 
-// Keeps theta a thousandth of each range inside it: the model's own limits (a fraction of 1.0,
-// a strain of 0.1) are legal values, but a finite-difference step must not leave the range.
+// The edges a parameter is kept within: a thousandth of its range inside it. The model's own
+// limits (a fraction of 1.0, a strain of 0.1) are legal values, but a finite-difference step
+// must not leave the range.
+struct Edges {
+  double lo, hi;
+};
+
+Edges edges_of(const PlausibleRange& r) {
+  const double margin = 1e-3 * (r.hi - r.lo);
+  return {r.lo + margin, r.hi - margin};
+}
+
 Eigen::VectorXd inside_ranges(Eigen::VectorXd theta, const std::vector<PlausibleRange>& ranges) {
   for (Eigen::Index k = 0; k < theta.size(); ++k) {
-    const auto& r = ranges[static_cast<std::size_t>(k)];
-    const double margin = 1e-3 * (r.hi - r.lo);
-    theta(k) = std::clamp(theta(k), r.lo + margin, r.hi - margin);
+    const Edges e = edges_of(ranges[static_cast<std::size_t>(k)]);
+    theta(k) = std::clamp(theta(k), e.lo, e.hi);
   }
   return theta;
 }
@@ -34,9 +43,10 @@ std::vector<Eigen::Index> indices_of(const std::vector<bool>& free) {
 // Whether theta(k) sits on the edge inside_ranges keeps it to, at the lower (-1) or the upper
 // (+1) end, or neither (0).
 int at_bound(const Eigen::VectorXd& theta, Eigen::Index k, const PlausibleRange& r) {
-  const double margin = 1e-3 * (r.hi - r.lo), tolerance = 1e-9 * (r.hi - r.lo);
-  if (theta(k) <= r.lo + margin + tolerance) return -1;
-  if (theta(k) >= r.hi - margin - tolerance) return 1;
+  const Edges e = edges_of(r);
+  const double tolerance = 1e-9 * (r.hi - r.lo);
+  if (theta(k) <= e.lo + tolerance) return -1;
+  if (theta(k) >= e.hi - tolerance) return 1;
   return 0;
 }
 
@@ -90,10 +100,10 @@ BoundedStep bounded_step(const Eigen::MatrixXd& info, const Eigen::VectorXd& g, 
   double scale = 1.0;
   for (Eigen::Index j = 0; j < nf; ++j) {
     const Eigen::Index k = idx[static_cast<std::size_t>(j)];
-    const auto& r = ranges[static_cast<std::size_t>(k)];
-    const double margin = 1e-3 * (r.hi - r.lo), to = theta(k) + step(j);
-    if (to > r.hi - margin) scale = std::min(scale, (r.hi - margin - theta(k)) / step(j));
-    if (to < r.lo + margin) scale = std::min(scale, (r.lo + margin - theta(k)) / step(j));
+    const Edges e = edges_of(ranges[static_cast<std::size_t>(k)]);
+    const double to = theta(k) + step(j);
+    if (to > e.hi) scale = std::min(scale, (e.hi - theta(k)) / step(j));
+    if (to < e.lo) scale = std::min(scale, (e.lo - theta(k)) / step(j));
   }
   return {std::max(scale, 0.0) * step, scale < 1.0};
 }
