@@ -35,6 +35,7 @@ Connection::Connection(const std::filesystem::path& path, int flags, int busy_ti
     db_ = nullptr;
     throw DatabaseError("cannot open database '" + path.string() + "' in defensive mode: " + msg);
   }
+  if ((flags & SQLITE_OPEN_READWRITE) != 0) turns_ = WriteTurns::of(path);
 }
 
 Connection::~Connection() {
@@ -46,12 +47,16 @@ Connection& Connection::operator=(Connection&& other) noexcept {
     sqlite3_close_v2(db_);
     db_ = other.db_;
     other.db_ = nullptr;
+    turns_ = std::move(other.turns_);
   }
   return *this;
 }
 
 void Connection::exec(const std::string& sql) const {
   char* err = nullptr;
+  // Outside a transaction a statement here may take the write lock (BEGIN IMMEDIATE, a PRAGMA
+  // that writes); inside one, this connection holds whatever lock it needs already.
+  const WriteTurns::Waiting waiting(sqlite3_get_autocommit(db_) != 0 ? turns_.get() : nullptr);
   if (sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &err) != SQLITE_OK) {
     std::string msg = err ? err : sqlite3_errmsg(db_);
     sqlite3_free(err);
@@ -101,12 +106,16 @@ Connection open_existing_read_only(const std::filesystem::path& path, std::strin
   return immutable;
 }
 
+void Connection::let_waiting_writers_first() const {
+  if (turns_) turns_->let_waiting_writers_first(std::chrono::milliseconds(10000));
+}
+
 std::int64_t Connection::query_int(const std::string& sql) const {
   Statement s(*this, sql);
   return s.step() ? s.col_int(0) : 0;
 }
 
-Statement::Statement(const Connection& c, std::string_view sql) : db_(c.get()) {
+Statement::Statement(const Connection& c, std::string_view sql) : db_(c.get()), turns_(c.turns()) {
   if (sqlite3_prepare_v2(db_, sql.data(), static_cast<int>(sql.size()), &stmt_, nullptr) != SQLITE_OK)
     fail(db_, "cannot prepare '" + std::string(sql.substr(0, 60)) + "'");
 }
@@ -138,6 +147,9 @@ Statement& Statement::bind_null(int i) {
 }
 
 bool Statement::step() {
+  // A write outside a transaction takes the write lock for itself: it waits its turn.
+  const bool takes_lock = turns_ && sqlite3_get_autocommit(db_) != 0 && sqlite3_stmt_readonly(stmt_) == 0;
+  const WriteTurns::Waiting waiting(takes_lock ? turns_ : nullptr);
   const int rc = sqlite3_step(stmt_);
   if (rc == SQLITE_ROW) return true;
   if (rc == SQLITE_DONE) return false;

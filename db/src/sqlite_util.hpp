@@ -6,6 +6,7 @@
 #include <concepts>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -14,6 +15,7 @@
 
 #include "tocd/db/database.hpp"
 #include "transaction.hpp"
+#include "write_turns.hpp"
 
 namespace tocd::db::detail {
 
@@ -25,9 +27,13 @@ class Connection {
   Connection() = default;
   /// sqlite3_open_v2 with `flags`; a busy timeout so short lock waits never surface as errors;
   /// SQLITE_DBCONFIG_DEFENSIVE on and trusted_schema off, as for any file of unknown origin.
+  /// A read-write connection takes its turns at the write lock with the process's others
+  /// (write_turns.hpp): its writes outside a transaction, and its BEGINs, say they wait.
   Connection(const std::filesystem::path& path, int flags, int busy_timeout_ms = 10000);
   ~Connection();
-  Connection(Connection&& other) noexcept : db_(other.db_) { other.db_ = nullptr; }
+  Connection(Connection&& other) noexcept : db_(other.db_), turns_(std::move(other.turns_)) {
+    other.db_ = nullptr;
+  }
   Connection& operator=(Connection&& other) noexcept;
   Connection(const Connection&) = delete;
   Connection& operator=(const Connection&) = delete;
@@ -37,9 +43,15 @@ class Connection {
   void exec(const std::string& sql) const;
   /// First column of the first row of a query as an integer (0 when no row).
   std::int64_t query_int(const std::string& sql) const;
+  /// For a connection that writes batch after batch: returns once no other connection of this
+  /// process waits for the write lock (at most the busy timeout of 10 s).
+  void let_waiting_writers_first() const;
+  /// The turns this connection's writes take part in; null for a read-only connection.
+  WriteTurns* turns() const noexcept { return turns_.get(); }
 
  private:
   sqlite3* db_ = nullptr;
+  std::shared_ptr<WriteTurns> turns_;
 };
 
 /// Opens an existing file read-only. A WAL database in a directory this process may not write
@@ -81,6 +93,7 @@ class Statement {
 
  private:
   sqlite3* db_ = nullptr;
+  WriteTurns* turns_ = nullptr;
   sqlite3_stmt* stmt_ = nullptr;
 };
 

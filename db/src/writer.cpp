@@ -217,6 +217,9 @@ struct Writer::Impl {
           failed = 0;
           return;
         }
+        // Back to back, batch after batch of a backlog, this thread would keep the write lock
+        // from the run's own writes (write_turns.hpp): they go first.
+        c.let_waiting_writers_first();
         detail::Transaction t(c);
         detail::Statement ins(
             c, "INSERT INTO samples(run_id, channel_id, t_ns, value, segment) VALUES(?,?,?,?,?)");

@@ -86,6 +86,47 @@ TEST_F(DbWriter, BatchIntervalCommitsWithoutFlush) {
   EXPECT_EQ(w.stats().batches, 1u);
 }
 
+// The run's own writes (its steps and events, on the Database's connection) get in between the
+// background writer's batches while it works through a backlog. SQLite's write lock is not
+// fair: a writer committing batch after batch takes it again microseconds after each commit,
+// and the other connection's busy handler, polling every 100 ms, missed every gap until the
+// backlog was done or its 10 s timeout ran out ("database is locked" from add_step, in the kill
+// test's resumed run under the sanitizers). Not a timing assertion: the order is what is checked
+// (the backlog is forty batches; each write must get in within three of them; without the turns,
+// the writes here waited for 22 to 40).
+TEST_F(DbWriter, TheRunsOwnWritesGetInBetweenTheBatchesOfABacklog) {
+  const Channel ch = run_with_channel(db_, "load", "N");
+  constexpr std::size_t kBatch = 5000, kBatches = 40, kRows = kBatch * kBatches;
+  Writer w(db_, {.batch_interval = std::chrono::milliseconds(1),
+                 .batch_rows = kBatch,
+                 .queue_capacity = kRows,
+                 .on_failure = {}});
+  std::vector<Sample> backlog;
+  for (std::size_t i = 0; i < kRows; ++i) backlog.push_back({ch.id, static_cast<std::int64_t>(i), 1.0});
+  ASSERT_EQ(w.enqueue(backlog), kRows);
+  for (int i = 0; i < 10000 && w.stats().batches == 0; ++i)  // the writer is into the backlog
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+
+  // Each write may wait for the batch being written, and the counter may lag one commit.
+  const auto before_event = w.stats().written;
+  db_.add_event(EventRecord{0, ch.run_id, 1, "operator", "a note while the backlog is written", -1, ""});
+  const auto after_event = w.stats().written;
+  StepRecord step;
+  step.run_id = ch.run_id;
+  step.target_displacement_mm = 0.25;
+  db_.add_step(step);  // BEGIN IMMEDIATE, as in the kill test
+  const auto after_step = w.stats().written;
+  EXPECT_LE(after_event - before_event, 3 * kBatch) << "the event waited for the backlog";
+  EXPECT_LE(after_step - after_event, 3 * kBatch) << "the step waited for the backlog";
+
+  w.flush();
+  EXPECT_EQ(w.stats().written, kRows);
+  EXPECT_EQ(w.stats().failed, 0u);
+  const Reader rd(path_);
+  EXPECT_EQ(rd.sample_count(ch.id), static_cast<std::int64_t>(kRows));
+  EXPECT_EQ(rd.steps(ch.run_id).size(), 1u);
+}
+
 TEST_F(DbWriter, NanValuesSurviveAsNan) {
   const Channel ch = run_with_channel(db_, "power", "W");
   {
