@@ -188,6 +188,13 @@ GlsFitOptions fit_options(const OpticsOptions& options) {
           "chi2 {:.3g} ({})",
           i, t(0), t(1), t(2), t(3), chi2, kept ? "kept" : "not kept"));
     };
+  if (options.progress)
+    o.on_last_step = [progress = options.progress](const Eigen::VectorXd& t, double chi2) {
+      progress(fmt::format(
+          "optics: within reach of the minimum; last step, without a trial: mu_a x{:.3f}, mu_s x{:.3f}, "
+          "n x{:.4f}, full clearing at log strain {:.3f}: chi2 {:.3g}",
+          t(0), t(1), t(2), t(3), chi2));
+    };
   return o;
 }
 

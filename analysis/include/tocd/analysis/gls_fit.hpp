@@ -11,7 +11,9 @@
 // wandered off to chi^2 of 170 for 3 degrees of freedom). With a
 // Monte Carlo model that comparison is itself noisy: the same seed keeps a photon's path only
 // until the changed optics change it, and on the demo run the cost scattered by about 3 between
-// neighbouring trials (docs/identify.md), so the minimum found is a lucky draw's.
+// neighbouring trials (docs/identify.md), so the minimum found is a lucky draw's. So the fit
+// ends, without a trial, with the undamped Gauss-Newton step from a point within reach of the
+// minimum: one whose step moves no free parameter by more than a fifth of its standard error.
 
 #include <functional>
 #include <vector>
@@ -48,6 +50,9 @@ struct GlsFitOptions {
   int max_iterations = 8;
   /// Called after each trial: its number, theta, cost and whether it was kept.
   std::function<void(int, const Eigen::VectorXd&, double, bool)> on_trial;
+  /// Called after the last step, taken without a trial from within reach of the minimum: where
+  /// it ended and the cost there.
+  std::function<void(const Eigen::VectorXd&, double)> on_last_step;
 };
 
 struct GlsFit {
@@ -55,9 +60,10 @@ struct GlsFit {
   GlsEvaluation evaluation;  ///< at theta, with the free parameters' columns
   double chi2 = 0;
   int iterations = 0;
-  /// No free parameter moved by more than a fifth of its standard error in the last kept step
-  /// (a step a bound cut short does not count), or every free parameter sits on a bound the
-  /// step pushes it against.
+  /// The fit ended with the last step from within reach of the minimum (above), or no free
+  /// parameter moved by more than a fifth of its standard error in the last kept step (a step a
+  /// bound cut short does not count), or every free parameter sits on a bound the step pushes it
+  /// against.
   bool converged = false;
 };
 
