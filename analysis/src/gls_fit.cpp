@@ -110,10 +110,11 @@ BoundedStep bounded_step(const Eigen::MatrixXd& info, const Eigen::VectorXd& g, 
 }
 
 // The normal equations of the free parameters at an evaluation: the information J^T W J and
-// the gradient J^T W r, with W the inverse of the cost's covariance there.
+// the gradient J^T W r, with W the inverse of the cost's covariance there, and the free
+// parameters' standard errors from the information.
 struct Normal {
   Eigen::MatrixXd info;
-  Eigen::VectorXd g;
+  Eigen::VectorXd g, se;
 };
 
 Normal normal_equations(const GlsProblem& problem, const GlsEvaluation& e,
@@ -121,12 +122,9 @@ Normal normal_equations(const GlsProblem& problem, const GlsEvaluation& e,
   const Eigen::MatrixXd w = gls_covariance(problem, e).inverse();
   Eigen::MatrixXd jf(e.jacobian.rows(), static_cast<Eigen::Index>(idx.size()));
   for (std::size_t j = 0; j < idx.size(); ++j) jf.col(static_cast<Eigen::Index>(j)) = e.jacobian.col(idx[j]);
-  return {jf.transpose() * w * jf, jf.transpose() * w * (problem.data - e.value)};
-}
-
-// The free parameters' standard errors from the information.
-Eigen::VectorXd standard_errors(const Eigen::MatrixXd& info) {
-  return info.inverse().diagonal().cwiseMax(0).cwiseSqrt();
+  Normal n{jf.transpose() * w * jf, jf.transpose() * w * (problem.data - e.value), {}};
+  n.se = n.info.inverse().diagonal().cwiseMax(0).cwiseSqrt();
+  return n;
 }
 
 // Whether every component of a step is within a fifth of its parameter's standard error.
@@ -149,7 +147,7 @@ std::optional<Eigen::VectorXd> last_step(const Normal& n, const Eigen::VectorXd&
                                          const std::vector<Eigen::Index>& idx,
                                          const std::vector<PlausibleRange>& ranges) {
   const auto [step, shortened] = bounded_step(n.info, n.g, 0.0, theta, idx, ranges);
-  if (shortened || !step.allFinite() || !within_a_fifth(step, standard_errors(n.info))) return std::nullopt;
+  if (shortened || !step.allFinite() || !within_a_fifth(step, n.se)) return std::nullopt;
   Eigen::VectorXd to = theta;
   for (std::size_t j = 0; j < idx.size(); ++j) to(idx[j]) += step(static_cast<Eigen::Index>(j));
   return inside_ranges(to, ranges);
@@ -220,7 +218,7 @@ GlsFit fit_gls(const GlsModel& model, const GlsProblem& problem, const Eigen::Ve
       const Eigen::Index k = idx[static_cast<std::size_t>(j)];
       moved(j) = next(k) - f.theta(k);
     }
-    const bool small = !shortened && within_a_fifth(moved, standard_errors(n.info));
+    const bool small = !shortened && within_a_fifth(moved, n.se);
     f.theta = next;
     f.evaluation = model(f.theta, free);
     f.chi2 = gls_chi2(problem, f.evaluation);

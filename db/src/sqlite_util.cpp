@@ -107,7 +107,7 @@ Connection open_existing_read_only(const std::filesystem::path& path, std::strin
 }
 
 void Connection::let_waiting_writers_first() const {
-  if (turns_) turns_->let_waiting_writers_first(std::chrono::milliseconds(10000));
+  if (turns_) turns_->let_waiting_writers_first(std::chrono::milliseconds(kBusyTimeoutMs));
 }
 
 std::int64_t Connection::query_int(const std::string& sql) const {

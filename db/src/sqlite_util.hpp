@@ -22,6 +22,9 @@ namespace tocd::db::detail {
 /// Throws DatabaseError "<what>: <sqlite message>" for a failed call on `db`.
 [[noreturn]] void fail(sqlite3* db, std::string_view what);
 
+/// How long a connection waits for a lock another connection holds before it gives up.
+inline constexpr int kBusyTimeoutMs = 10000;
+
 class Connection {
  public:
   Connection() = default;
@@ -29,7 +32,7 @@ class Connection {
   /// SQLITE_DBCONFIG_DEFENSIVE on and trusted_schema off, as for any file of unknown origin.
   /// A read-write connection takes its turns at the write lock with the process's others
   /// (write_turns.hpp): its writes outside a transaction, and its BEGINs, say they wait.
-  Connection(const std::filesystem::path& path, int flags, int busy_timeout_ms = 10000);
+  Connection(const std::filesystem::path& path, int flags, int busy_timeout_ms = kBusyTimeoutMs);
   ~Connection();
   Connection(Connection&& other) noexcept : db_(other.db_), turns_(std::move(other.turns_)) {
     other.db_ = nullptr;
@@ -44,7 +47,7 @@ class Connection {
   /// First column of the first row of a query as an integer (0 when no row).
   std::int64_t query_int(const std::string& sql) const;
   /// For a connection that writes batch after batch: returns once no other connection of this
-  /// process waits for the write lock (at most the busy timeout of 10 s).
+  /// process waits for the write lock (at most kBusyTimeoutMs, when such a waiter gives up).
   void let_waiting_writers_first() const;
   /// The turns this connection's writes take part in; null for a read-only connection.
   WriteTurns* turns() const noexcept { return turns_.get(); }

@@ -58,9 +58,14 @@ a::GlsEvaluation evaluate(const Eigen::VectorXd& t, const std::vector<bool>& col
   return e;
 }
 
-// The exact profile of the cost in k: the weighted linear least squares in (b, c), solved from
-// its normal equations.
-double exact_profile(const a::GlsProblem& p, double k) {
+// At each k the cost's weighted linear least squares in (b, c), solved from its normal
+// equations: (b, c) and the cost there.
+struct LinearAtK {
+  Eigen::Vector2d bc;
+  double cost;
+};
+
+LinearAtK linear_at(const a::GlsProblem& p, double k) {
   const auto n = static_cast<Eigen::Index>(kX.size());
   Eigen::MatrixXd cov = p.data_covariance;
   cov.diagonal().array() += 0.5 * kSigma * kSigma;
@@ -72,7 +77,12 @@ double exact_profile(const a::GlsProblem& p, double k) {
   }
   const Eigen::Vector2d bc = (basis.transpose() * w * basis).inverse() * (basis.transpose() * w * p.data);
   const Eigen::VectorXd r = p.data - basis * bc;
-  return r.dot(w * r);
+  return {bc, r.dot(w * r)};
+}
+
+// The exact profile of the cost in k.
+double exact_profile(const a::GlsProblem& p, double k) {
+  return linear_at(p, k).cost;
 }
 
 // The exact profile in k with c held: the weighted linear least squares in b alone.
@@ -198,13 +208,7 @@ a::GlsEvaluation evaluate_rough(const Eigen::VectorXd& t, const std::vector<bool
 // least squares there.
 Eigen::Vector3d exact_minimum(const a::GlsProblem& p) {
   const double k = golden_minimum([&](double kk) { return exact_profile(p, kk); }, 0.2, 2.0);
-  const auto n = static_cast<Eigen::Index>(kX.size());
-  Eigen::MatrixXd cov = p.data_covariance;
-  cov.diagonal().array() += 0.5 * kSigma * kSigma;
-  const Eigen::MatrixXd w = cov.inverse();
-  Eigen::MatrixXd basis(n, 2);
-  for (Eigen::Index j = 0; j < n; ++j) basis.row(j) << std::exp(-k * kX[static_cast<std::size_t>(j)]), 1.0;
-  const Eigen::Vector2d bc = (basis.transpose() * w * basis).inverse() * (basis.transpose() * w * p.data);
+  const Eigen::Vector2d bc = linear_at(p, k).bc;
   return {bc(0), k, bc(1)};
 }
 
