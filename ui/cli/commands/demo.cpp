@@ -279,7 +279,9 @@ void install_demo(CLI::App& root) {
   cli::add_photons_option(*cmd, "--photons", o->photons, "Monte Carlo photons per predicted step");
   cli::add_photons_option(*cmd, "--sample-photons", o->sample_photons,
                           "Monte Carlo photons per point of the simulated sample's transmission curve");
-  cli::add_seed_option(*cmd, o->seed, "random seed (predictions and instrument noise)");
+  cli::add_seed_option(
+      *cmd, o->seed,
+      "random seed (predictions and instrument noise; the identification keeps tocdlab identify's seed, 11)");
   cli::add_threads_option(*cmd, o->threads, "Monte Carlo threads (0 = all cores)");
   cmd->add_option("--clock-factor", o->clock_factor, "simulated seconds per real second")
       ->check(cli::real_above(0.0, 1e6))
