@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -230,14 +231,26 @@ void profile_intervals(const Problem& pr, const Eigen::VectorXd& y, const Eigen:
     if (!std::isfinite(param.se)) continue;
     Eigen::VectorXd warm = best;
     bool above = true;  // the side of the estimate the last profile point was on
+    auto refit_from = [&](Eigen::VectorXd start, double v) {
+      start(k) = v;
+      const LmOutcome fit = levenberg_marquardt(pr, y, start, k);
+      return std::pair{fit.p, (y - pr.model(fit.p, nullptr)).squaredNorm()};
+    };
     apply_profile(param, [&](double v) {
       if ((v > best(k)) != above) warm = best;  // a new side: from the estimate
       above = v > best(k);
-      Eigen::VectorXd start = warm;
-      start(k) = v;
-      const LmOutcome fit = levenberg_marquardt(pr, y, start, k);
-      warm = fit.p;
-      return ((y - pr.model(fit.p, nullptr)).squaredNorm() - rss_min) / residual_variance;
+      auto [p, cost] = refit_from(warm, v);
+      // The last point's fit may lie far out: the walk's first step can overshoot the crossing
+      // several-fold, and a refit there can end in a corner (g near 0, tau at its cap) from which
+      // the next points never come back. Their rises then stayed huge and the interval's end
+      // collapsed onto the estimate (7 of 30 closed-form runs with tau = 35 s and 7 s holds).
+      // So each point is also refitted from the estimate, and the lower cost is kept.
+      if (warm != best) {
+        auto [q, from_best] = refit_from(best, v);
+        if (from_best < cost) std::tie(p, cost) = std::tie(q, from_best);
+      }
+      warm = p;
+      return (cost - rss_min) / residual_variance;
     });
   }
 }
