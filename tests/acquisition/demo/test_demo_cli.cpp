@@ -181,7 +181,7 @@ void expect_compare_with_the_identified_sample(const std::string& db,
 
 // The windows the run recorded again. A window that lost readings (its poller starved of the
 // CPU: at 4 times real time the tester is read 4000 times a second) is recorded again after
-// another settle and hold, 7 s further into the relaxation, so its load carries less
+// another settle and hold, 8 s further into the relaxation, so its load carries less
 // overstress than the other steps' (5 % less at 1.0 mm in a run beside three busy loops on two
 // cores, where the fit of one scale came to 1.0496 of that step's load). The held loads are
 // then not one law times a scale plus the same overstress share: the 5 % comparison is made
