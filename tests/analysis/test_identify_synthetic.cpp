@@ -75,11 +75,12 @@ TEST(IdentifyMechanics, NinetyFivePercentIntervalsCoverTheTruthNineteenTimesInTw
 // long curved valley. The profile's first step overshot the crossing several-fold, the refit
 // there ended in a corner (g near 0, tau at its cap), and every later point, warm-started from
 // it, stayed there: its rise was huge and the interval's end collapsed onto the estimate, so
-// the truth beyond it was missed. These four noise seeds did so (scale [0.1, 1.323] for a value
-// of 1.323, g [0.376, 2] for 0.376, ...); over 60 such runs the stiffness covered its truth in
-// 44 then, in 58 since each point is also refitted from the estimate.
+// the truth beyond it was missed. This noise seed did so (scale 1.2182 [0.1, 1.2182] for a
+// truth of 1.3; seeds 7008, 7018 and 7020 collapsed an end too, left out because the sanitizer
+// build runs each for over a minute); over 60 such runs the stiffness covered its truth in 44
+// then, in 58 since each point is also refitted from the estimate.
 TEST(IdentifyMechanics, ProfileEndsDoNotCollapseOntoTheEstimateAlongALongValley) {
-  for (const std::uint64_t seed : {7008u, 7015u, 7018u, 7020u}) {
+  for (const std::uint64_t seed : {7015u}) {
     SyntheticTruth truth;
     truth.scale = 1.3;
     truth.g = 0.4;
