@@ -3,9 +3,6 @@
 
 Usage: check_bench_programs.py --source-dir SRC --bin-dir DIR --work-dir DIR
 
-identify_bench records on the default simulated sample from the user's sample cache (ctest's
-default_sample fixture prepares it), as the page's figure was measured.
-
 The page's table names each program and how to run it. Each is run here with small arguments
 (seconds, not minutes) and its output is read back: the figures the page says it prints are
 there and hold together (regions that add up to the mesh, no sample lost, the published law
@@ -15,6 +12,9 @@ status is a verdict on speed (db_bench, tester_poll_bench) may say "below target
 The A/B scripts build another revision and run minutes of Monte Carlo: their --help is run
 and must accept every option the page shows for them. A program the page names that is
 neither built nor in bench/ fails the check, as does a built benchmark the page leaves out.
+
+identify_bench records on the default simulated sample from the user's sample cache (ctest's
+default_sample fixture prepares it), as the page's figure was measured.
 """
 
 import argparse
@@ -32,10 +32,14 @@ def fail(program, why, output=""):
     failures.append(f"{program}: {why}" + (f"\n    last lines:\n    {tail}" if tail else ""))
 
 
-def run(args, timeout=300, cwd=None):
+def run(program, args, ok_exits=(0,), timeout=300, cwd=None):
+    """stdout of `args`, or None (and a failure of `program`) on an exit status not in ok_exits."""
     p = subprocess.run(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=timeout,
                        cwd=cwd)
-    return p.returncode, p.stdout, p.stderr
+    if p.returncode not in ok_exits:
+        fail(program, f"exit {p.returncode}", p.stderr)
+        return None
+    return p.stdout
 
 
 def documented_rows(source):
@@ -54,9 +58,9 @@ def numbers_after(label, text):
 
 
 def check_mc_bench(bin_dir, work):
-    rc, out, err = run([str(bin_dir / "mc_bench"), "--photons", "2000", "--threads", "1"])
-    if rc != 0:
-        return fail("mc_bench", f"exit {rc}", err)
+    out = run("mc_bench", [str(bin_dir / "mc_bench"), "--photons", "2000", "--threads", "1"])
+    if out is None:
+        return
     lines = [l for l in out.splitlines() if l.startswith("(")]
     slab = any(l.startswith("(a) skin slab ") for l in lines)
     between = any(l.startswith("(b) air / skin / glass") for l in lines)
@@ -73,9 +77,9 @@ def check_mc_bench(bin_dir, work):
 
 
 def check_fe_bench(bin_dir, work):
-    rc, out, err = run([str(bin_dir / "fe_bench")])
-    if rc != 0:
-        return fail("fe_bench", f"exit {rc}", err)
+    out = run("fe_bench", [str(bin_dir / "fe_bench")])
+    if out is None:
+        return
     ratio = numbers_after("plane stress / axisymmetric CPU time:", out)
     if not ratio or not ratio[0] > 0:
         return fail("fe_bench", "no CPU-time ratio of plane stress to axisymmetric", out)
@@ -91,9 +95,9 @@ def check_fe_bench(bin_dir, work):
 
 
 def check_geometry_bench(bin_dir, work):
-    rc, out, err = run([str(bin_dir / "geometry_bench"), "fast"])
-    if rc != 0:
-        return fail("geometry_bench", f"exit {rc}", err)
+    out = run("geometry_bench", [str(bin_dir / "geometry_bench"), "fast"])
+    if out is None:
+        return
     rows = [l.split() for l in out.splitlines() if l.startswith("fast ")]
     if len(rows) < 2:
         return fail("geometry_bench", "no rows for the fast preset", out)
@@ -106,9 +110,10 @@ def check_geometry_bench(bin_dir, work):
 
 def check_db_bench(bin_dir, work):
     db = work / "db_bench.sqlite"
-    rc, out, err = run([str(bin_dir / "db_bench"), "0.5", str(db)])
-    if rc not in (0, 1):  # 1: below the speed target, a verdict this check does not make
-        return fail("db_bench", f"exit {rc}", err)
+    # Exit 1: below the speed target, a verdict this check does not make.
+    out = run("db_bench", [str(bin_dir / "db_bench"), "0.5", str(db)], ok_exits=(0, 1))
+    if out is None:
+        return
     for section in ("drain:", "sustained:", "acquisition shape"):
         if section not in out:
             return fail("db_bench", f"no '{section}' section", out)
@@ -123,9 +128,10 @@ def check_db_bench(bin_dir, work):
 
 
 def check_tester_poll_bench(bin_dir, work):
-    rc, out, err = run([str(bin_dir / "tester_poll_bench"), "0.3"])
-    if rc not in (0, 1):  # 1: below 1000 readings/s
-        return fail("tester_poll_bench", f"exit {rc}", err)
+    # Exit 1: below 1000 readings/s.
+    out = run("tester_poll_bench", [str(bin_dir / "tester_poll_bench"), "0.3"], ok_exits=(0, 1))
+    if out is None:
+        return
     readings = numbers_after("readings", out)
     lat = [numbers_after(k, out) for k in ("p50", "p95", "p99", "max")]
     if not readings or readings[0] <= 0 or not all(lat):
@@ -136,9 +142,9 @@ def check_tester_poll_bench(bin_dir, work):
 
 
 def check_fit_bench(bin_dir, work):
-    rc, out, err = run([str(bin_dir / "fit_bench"), "2000"])
-    if rc != 0:
-        return fail("fit_bench", f"exit {rc}", err)
+    out = run("fit_bench", [str(bin_dir / "fit_bench"), "2000"])
+    if out is None:
+        return
     fits = re.findall(r"fit (\S+)\s+[0-9.]+ s\s+\(rms ([0-9.eE+-]+) MPa, R\^2 [0-9.]+, (\w+)\)", out)
     if len(fits) < 6 or any(state != "converged" for _, _, state in fits):
         return fail("fit_bench", "fewer than six models, or one not converged", out)
@@ -149,9 +155,9 @@ def check_fit_bench(bin_dir, work):
 
 
 def check_identify_bench(bin_dir, work):
-    rc, out, err = run([str(bin_dir / "identify_bench"), "1000", "2"], cwd=work, timeout=600)
-    if rc != 0:
-        return fail("identify_bench", f"exit {rc}", err)
+    out = run("identify_bench", [str(bin_dir / "identify_bench"), "1000", "2"], cwd=work, timeout=600)
+    if out is None:
+        return
     m = re.search(r"identify the demo run: ([0-9.]+) s in all .*optics: [0-9.]+ s, "
                   r"(\d+) Monte Carlo runs at 1000 photons", out)
     if not m or int(m.group(2)) <= 0:
@@ -159,9 +165,9 @@ def check_identify_bench(bin_dir, work):
 
 
 def check_poro_bench(bin_dir, work):
-    rc, out, err = run([str(bin_dir / "poro_bench")], cwd=work)
-    if rc != 0:
-        return fail("poro_bench", f"exit {rc}", err)
+    out = run("poro_bench", [str(bin_dir / "poro_bench")], cwd=work)
+    if out is None:
+        return
     points = re.findall(r"t =\s*([0-9.]+) s\s+T = ([0-9.]+) \+- ([0-9.]+)\s+F = ([0-9.]+) N"
                         r"\s+water out ([-0-9.]+) mm3", out)
     if len(points) != 4:
@@ -184,9 +190,9 @@ def check_strong_scaling(source, bin_dir, work):
         print("strong_scaling.sh: not run (no mpi_scaling_bench in this build, or no mpirun)")
         return
     script = source / "bench" / "parallel" / "strong_scaling.sh"
-    rc, out, err = run(["bash", str(script), str(bin_dir.parent), "2", "20000"], cwd=work)
-    if rc != 0:
-        return fail("strong_scaling.sh", f"exit {rc}", err)
+    out = run("strong_scaling.sh", ["bash", str(script), str(bin_dir.parent), "2", "20000"], cwd=work)
+    if out is None:
+        return
     if not re.search(r"strong scaling 1 -> 2 ranks: speed-up [0-9.]+, parallel efficiency [0-9.]+ %", out):
         return fail("strong_scaling.sh", "no speed-up and efficiency line", out)
 
@@ -196,9 +202,9 @@ def check_script_options(source, script, cell):
     path = next(source.glob(f"bench/*/{script}"), None)
     if path is None:
         return fail(script, "not in bench/")
-    rc, out, err = run([sys.executable, str(path), "--help"])
-    if rc != 0:
-        return fail(script, f"--help exit {rc}", err)
+    out = run(f"{script} --help", [sys.executable, str(path), "--help"])
+    if out is None:
+        return
     for option in sorted(set(re.findall(r"--[a-z][a-z0-9-]*", cell))):
         if option not in out:
             fail(script, f"the page shows {option}, which its --help does not know", out)
