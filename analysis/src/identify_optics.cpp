@@ -207,6 +207,25 @@ GlsFitOptions fit_options(const OpticsOptions& options) {
   return o;
 }
 
+// No optical parameter is reported as determined. Their intervals come from the covariance,
+// which takes the valley the optics' parameters leave (n with the full clearing strain, mu_a
+// with mu_s) for straight, at a point kept by comparing Monte Carlo costs that scatter by a few
+// units. Measured against simulated samples' known truth, the intervals of the full clearing
+// strain that were narrow enough to count as determined held it in 21 of 28 (75 %, three
+// calibration runs of December 2026; docs/identify.md), where a 95 % interval misses 1 in 20.
+// Averaging Gauss-Newton iterates over new Monte Carlo draws did not mend it (the same
+// samples missed with narrower intervals). The intervals are still reported, with this reason.
+void withhold_determination(ParameterReport& rep) {
+  for (auto& p : rep.parameters) {
+    if (!p.determined) continue;
+    p.determined = false;
+    p.why_not =
+        "its 95 % interval, from the covariance, is not calibrated: such intervals held the truth of 21 of "
+        "28 "
+        "simulated samples (docs/identify.md)";
+  }
+}
+
 // Each held step's measured T beside the model's window mean, its Monte Carlo error and the
 // band of the parameters' covariance (multiplier z).
 std::vector<OpticsIdentification::Step> steps_of(const RunHistory& history,
@@ -292,6 +311,7 @@ OpticsIdentification identify_optics(const RunHistory& history, const ClearingId
   const Eigen::MatrixXd l = Eigen::LLT<Eigen::MatrixXd>(w).matrixU();
   const Eigen::MatrixXd covariance = least_squares_covariance(l * e.jacobian, birge);
   apply_covariance(rep, covariance, z);
+  withhold_determination(rep);
 
   out.displacement_mm = clearing.displacement_mm;
   out.T_eq = clearing.T_eq;

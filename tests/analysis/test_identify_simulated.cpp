@@ -2,7 +2,9 @@
 // ranges (tocd/mocks/sample_truth.hpp): each sample is prepared (FE load curve, FE + Monte Carlo
 // transmission), measured with the demo protocol through the simulated instruments' wire
 // protocols into a database, and identified from the database alone. Every parameter the run
-// determines must have a 95 % interval that covers the truth the sample was built with.
+// determines must have a 95 % interval that covers the truth the sample was built with. The
+// optical parameters are never reported as determined (their intervals are not calibrated;
+// identify_optics.cpp): they are printed with their truth, for the record, and not counted.
 //
 // Default suite: three samples, the mechanics and the clearing's time course (the sample's
 // tables at 4,000 photons; the optics' Monte Carlo, minutes per sample, is left to the long
@@ -156,7 +158,13 @@ TEST(IdentifySimulatedSamples, DeterminedParametersCoverTheDrawnTruth) {
     for (const a::ParameterReport* rep : reports) {
       for (const auto& p : rep->parameters) {
         const auto t = truths.find(p.name);
-        if (t == truths.end() || !p.determined) continue;
+        if (t == truths.end()) continue;
+        if (!p.determined) {  // printed for the calibration's record, not counted
+          std::cout << fmt::format(
+              "sample {} {:<24} truth {:<9.5g} identified {:<9.5g} [{:.5g}, {:.5g}] not determined\n", k,
+              p.name, t->second, p.value, p.lo, p.hi);
+          continue;
+        }
         ++determined[p.name];
         const bool covered = p.lo <= t->second && t->second <= p.hi;
         if (!covered) ++missed[p.name];
@@ -164,6 +172,10 @@ TEST(IdentifySimulatedSamples, DeterminedParametersCoverTheDrawnTruth) {
                                  k, p.name, t->second, p.value, p.lo, p.hi, covered ? "covered" : "MISSED");
       }
     }
+    // The optics' intervals are reported but never called determined (not calibrated).
+    if (id.optics)
+      for (const auto& p : id.optics->report.parameters)
+        EXPECT_FALSE(p.determined) << "sample " << k << " " << p.name;
     // The mechanics are always determined by a demo run: stiffness and the relaxation.
     EXPECT_TRUE(id.mechanics.report.at("stiffness_scale").determined) << "sample " << k;
     EXPECT_TRUE(id.mechanics.report.at("g1").determined) << "sample " << k;
