@@ -215,6 +215,14 @@ void widen_over_valley(IdentifiedParameter& p, std::size_t index, const std::vec
   judge(p);
 }
 
+void withhold_determination(ParameterReport& report, const std::string& why) {
+  for (auto& p : report.parameters) {
+    if (!p.determined) continue;
+    p.determined = false;
+    p.why_not = why;
+  }
+}
+
 void apply_covariance(ParameterReport& report, const Eigen::MatrixXd& cov, double z) {
   const auto n = static_cast<Eigen::Index>(report.parameters.size());
   if (cov.rows() != n || cov.cols() != n)

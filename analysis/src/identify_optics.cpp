@@ -215,16 +215,9 @@ GlsFitOptions fit_options(const OpticsOptions& options) {
 // calibration runs of December 2026; docs/identify.md), where a 95 % interval misses 1 in 20.
 // Averaging Gauss-Newton iterates over new Monte Carlo draws did not mend it (the same
 // samples missed with narrower intervals). The intervals are still reported, with this reason.
-void withhold_determination(ParameterReport& rep) {
-  for (auto& p : rep.parameters) {
-    if (!p.determined) continue;
-    p.determined = false;
-    p.why_not =
-        "its 95 % interval, from the covariance, is not calibrated: such intervals held the truth of 21 of "
-        "28 "
-        "simulated samples (docs/identify.md)";
-  }
-}
+const char* const kNotCalibrated =
+    "its 95 % interval, from the covariance, is not calibrated: such intervals held the truth of 21 of 28 "
+    "simulated samples (docs/identify.md)";
 
 // Each held step's measured T beside the model's window mean, its Monte Carlo error and the
 // band of the parameters' covariance (multiplier z).
@@ -311,7 +304,7 @@ OpticsIdentification identify_optics(const RunHistory& history, const ClearingId
   const Eigen::MatrixXd l = Eigen::LLT<Eigen::MatrixXd>(w).matrixU();
   const Eigen::MatrixXd covariance = least_squares_covariance(l * e.jacobian, birge);
   apply_covariance(rep, covariance, z);
-  withhold_determination(rep);
+  withhold_determination(rep, kNotCalibrated);
 
   out.displacement_mm = clearing.displacement_mm;
   out.T_eq = clearing.T_eq;

@@ -173,9 +173,10 @@ TEST(IdentifySimulatedSamples, DeterminedParametersCoverTheDrawnTruth) {
       }
     }
     // The optics' intervals are reported but never called determined (not calibrated).
-    if (id.optics)
+    if (id.optics) {
       for (const auto& p : id.optics->report.parameters)
         EXPECT_FALSE(p.determined) << "sample " << k << " " << p.name;
+    }
     // The mechanics are always determined by a demo run: stiffness and the relaxation.
     EXPECT_TRUE(id.mechanics.report.at("stiffness_scale").determined) << "sample " << k;
     EXPECT_TRUE(id.mechanics.report.at("g1").determined) << "sample " << k;

@@ -97,6 +97,27 @@ TEST(IdentifyMechanics, ProfileEndsDoNotCollapseOntoTheEstimateAlongALongValley)
   }
 }
 
+TEST(IdentifyMechanics, AFitThatDidNotConvergeDeterminesNothing) {
+  // The same corner, noise seed 7051: the fit drifts along the valley out of the plausible
+  // ranges (g 10.1, stiffness 0.16, tau 130 s) and is still moving after its 300 iterations. Its
+  // profile from there once called tau1_s determined, 130 s [38, 148], for a truth of 35 s.
+  SyntheticTruth truth;
+  truth.scale = 1.3;
+  truth.g = 0.4;
+  truth.tau_s = 35.0;
+  truth.load_noise_N = 0.0045;
+  const auto m = mechanics_of(make_synthetic_run(truth, 7051, 7.0, 0.18, 200.0));
+  ASSERT_FALSE(m.report.converged) << "the case this test is about";
+  EXPECT_EQ(m.report.iterations, 300);
+  int said = 0;
+  for (const auto& p : m.report.parameters) {
+    EXPECT_FALSE(p.determined) << p.name << " " << p.value << " [" << p.lo << ", " << p.hi << "]";
+    EXPECT_FALSE(p.why_not.empty()) << p.name;
+    said += p.why_not.find("did not converge") != std::string::npos;
+  }
+  EXPECT_GE(said, 1) << "the reason is the fit's";
+}
+
 TEST(IdentifyMechanics, ASecondRelaxationTimeTheRunDoesNotHaveIsNotDetermined) {
   // One relaxation in the data, two Prony terms asked for: the run cannot give the second
   // term's time, and says so rather than printing a number with a false interval.

@@ -59,6 +59,12 @@ struct ParameterReport {
 void apply_covariance(ParameterReport& report, const Eigen::MatrixXd& covariance,
                       double z = 1.959963984540054);
 
+/// Marks every parameter the report counts as determined as not determined, for `why`: a reason
+/// that holds for the whole fit (its estimate is not a minimum of the cost; its intervals are
+/// not calibrated). Values and intervals stay, for what they are worth; parameters already not
+/// determined keep their own reason.
+void withhold_determination(ParameterReport& report, const std::string& why);
+
 /// The profile of a least-squares cost in one parameter: its lowest residual sum of squares
 /// with that parameter held at `value` and every other parameter free, less the fit's minimum,
 /// in units of the residual variance (sigma^2 times the variance inflation). NaN where no fit
