@@ -71,7 +71,26 @@ TEST(IdentifyMechanics, NinetyFivePercentIntervalsCoverTheTruthNineteenTimesInTw
   EXPECT_GE(covered_tau, 34);
 }
 
-// A relaxation (35 s) five times longer than the holds (7 s): stiffness, g and tau lie along a
+namespace {
+
+// A relaxation (35 s) five times longer than the holds (7 s), ramps at 0.18 mm/s, a 200 Hz
+// tester whose loads carry 4.5 mN of noise: the corner where the long calibration missed.
+SyntheticTruth long_valley_truth() {
+  SyntheticTruth truth;
+  truth.scale = 1.3;
+  truth.g = 0.4;
+  truth.tau_s = 35.0;
+  truth.load_noise_N = 0.0045;
+  return truth;
+}
+
+a::testing::SyntheticRun long_valley_run(std::uint64_t noise_seed) {
+  return make_synthetic_run(long_valley_truth(), noise_seed, 7.0, 0.18, 200.0);
+}
+
+}  // namespace
+
+// At that corner stiffness, g and tau lie along a
 // long curved valley. The profile's first step overshot the crossing several-fold, the refit
 // there ended in a corner (g near 0, tau at its cap), and every later point, warm-started from
 // it, stayed there: its rise was huge and the interval's end collapsed onto the estimate, so
@@ -80,12 +99,8 @@ TEST(IdentifyMechanics, NinetyFivePercentIntervalsCoverTheTruthNineteenTimesInTw
 // build runs each for over a minute); over 60 such runs the stiffness covered its truth in 44
 // then, in 58 since each point is also refitted from the estimate.
 TEST(IdentifyMechanics, ProfileEndsDoNotCollapseOntoTheEstimateAlongALongValley) {
-  SyntheticTruth truth;
-  truth.scale = 1.3;
-  truth.g = 0.4;
-  truth.tau_s = 35.0;
-  truth.load_noise_N = 0.0045;
-  const auto m = mechanics_of(make_synthetic_run(truth, 7015, 7.0, 0.18, 200.0));
+  const SyntheticTruth truth = long_valley_truth();
+  const auto m = mechanics_of(long_valley_run(7015));
   for (const auto& [name, value] :
        {std::pair{"stiffness_scale", truth.scale}, {"g1", truth.g}, {"tau1_s", truth.tau_s}}) {
     const auto& p = m.report.at(name);
@@ -101,12 +116,7 @@ TEST(IdentifyMechanics, AFitThatDidNotConvergeDeterminesNothing) {
   // The same corner, noise seed 7051: the fit drifts along the valley out of the plausible
   // ranges (g 10.1, stiffness 0.16, tau 130 s) and is still moving after its 300 iterations. Its
   // profile from there once called tau1_s determined, 130 s [38, 148], for a truth of 35 s.
-  SyntheticTruth truth;
-  truth.scale = 1.3;
-  truth.g = 0.4;
-  truth.tau_s = 35.0;
-  truth.load_noise_N = 0.0045;
-  const auto m = mechanics_of(make_synthetic_run(truth, 7051, 7.0, 0.18, 200.0));
+  const auto m = mechanics_of(long_valley_run(7051));
   ASSERT_FALSE(m.report.converged) << "the case this test is about";
   EXPECT_EQ(m.report.iterations, 300);
   int said = 0;
