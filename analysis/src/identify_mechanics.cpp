@@ -144,7 +144,9 @@ Eigen::VectorXd starting_point(const Problem& pr, const Eigen::VectorXd& y) {
 
 // Levenberg-Marquardt in (c, s, g_i, ln tau_i): tau stays positive. Stops when a step changes
 // no parameter by more than 1e-9 of its size and the cost by less than 1e-12 of itself. A
-// `fixed` parameter (its index, for a profile) keeps its starting value.
+// `fixed` parameter (its index, for a profile) keeps its starting value. A fit that has not
+// stopped after kLmIterations reports itself not converged.
+constexpr int kLmIterations = 300;
 struct LmOutcome {
   Eigen::VectorXd p;
   int iterations = 0;
@@ -168,7 +170,7 @@ LmOutcome levenberg_marquardt(const Problem& pr, const Eigen::VectorXd& y, Eigen
   Eigen::MatrixXd j;
   Eigen::VectorXd r = y - pr.model(p, &j);
   double cost = r.squaredNorm();
-  for (out.iterations = 1; out.iterations <= 300; ++out.iterations) {
+  for (out.iterations = 1; out.iterations <= kLmIterations; ++out.iterations) {
     for (int i = 0; i < pr.terms; ++i) j.col(3 + 2 * i) *= p(3 + 2 * i);  // d/d ln tau
     if (fixed >= 0) j.col(fixed).setZero();
     Eigen::MatrixXd a = j.transpose() * j;
@@ -216,7 +218,7 @@ LmOutcome levenberg_marquardt(const Problem& pr, const Eigen::VectorXd& y, Eigen
     }
   }
   out.p = p;
-  out.iterations = std::min(out.iterations, 300);  // the loop's counter ends one past when spent
+  out.iterations = std::min(out.iterations, kLmIterations);  // the loop's counter ends one past when spent
   return out;
 }
 

@@ -159,17 +159,17 @@ TEST(IdentifySimulatedSamples, DeterminedParametersCoverTheDrawnTruth) {
       for (const auto& p : rep->parameters) {
         const auto t = truths.find(p.name);
         if (t == truths.end()) continue;
-        if (!p.determined) {  // printed for the calibration's record, not counted
-          std::cout << fmt::format(
-              "sample {} {:<24} truth {:<9.5g} identified {:<9.5g} [{:.5g}, {:.5g}] not determined\n", k,
-              p.name, t->second, p.value, p.lo, p.hi);
-          continue;
-        }
-        ++determined[p.name];
         const bool covered = p.lo <= t->second && t->second <= p.hi;
-        if (!covered) ++missed[p.name];
+        // Undetermined parameters are printed for the calibration's record, not counted.
+        if (p.determined) {
+          ++determined[p.name];
+          if (!covered) ++missed[p.name];
+        }
         std::cout << fmt::format("sample {} {:<24} truth {:<9.5g} identified {:<9.5g} [{:.5g}, {:.5g}] {}\n",
-                                 k, p.name, t->second, p.value, p.lo, p.hi, covered ? "covered" : "MISSED");
+                                 k, p.name, t->second, p.value, p.lo, p.hi,
+                                 !p.determined ? "not determined"
+                                 : covered     ? "covered"
+                                               : "MISSED");
       }
     }
     // The optics' intervals are reported but never called determined (not calibrated).

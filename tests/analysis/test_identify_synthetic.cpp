@@ -90,14 +90,14 @@ a::testing::SyntheticRun long_valley_run(std::uint64_t noise_seed) {
 
 }  // namespace
 
-// At that corner stiffness, g and tau lie along a
-// long curved valley. The profile's first step overshot the crossing several-fold, the refit
-// there ended in a corner (g near 0, tau at its cap), and every later point, warm-started from
-// it, stayed there: its rise was huge and the interval's end collapsed onto the estimate, so
-// the truth beyond it was missed. This noise seed did so (scale 1.2182 [0.1, 1.2182] for a
-// truth of 1.3; seeds 7008, 7018 and 7020 collapsed an end too, left out because the sanitizer
-// build runs each for over a minute); over 60 such runs the stiffness covered its truth in 44
-// then, in 58 since each point is also refitted from the estimate.
+// At that corner stiffness, g and tau lie along a long curved valley. The profile's first step
+// overshot the crossing several-fold, the refit there ended in a corner (g near 0, tau at its
+// cap), and every later point, warm-started from it, stayed there: its rise was huge and the
+// interval's end collapsed onto the estimate, so the truth beyond it was missed. This noise seed
+// did so (scale 1.2182 [0.1, 1.2182] for a truth of 1.3; seeds 7008, 7018 and 7020 collapsed an
+// end too, left out because the sanitizer build runs each for over a minute); over 60 such runs
+// the stiffness covered its truth in 44 then, in 58 since each point is also refitted from the
+// estimate.
 TEST(IdentifyMechanics, ProfileEndsDoNotCollapseOntoTheEstimateAlongALongValley) {
   const SyntheticTruth truth = long_valley_truth();
   const auto m = mechanics_of(long_valley_run(7015));
