@@ -184,7 +184,8 @@ TEST(IdentifyClearing, IntervalsAreCalibrated) {
 // minutes); before the profiles were scanned over the whole range, intervals taken around the
 // wrong valley missed the truth in 15 of these 100 runs. A calibrated 95 % interval misses more
 // than 10 times in 100 with probability 1.2 % (binomial). Measured over 400 such runs: the time
-// covered in 95.1 % of those where it was determined, the share in 92.3 % (docs/identify.md).
+// covered in 95.1 % of those where it was determined, the share in 92.3 %; 400 more with noise of
+// their own, 93 % (test_identify_clearing_calibration.cpp, physics-long; docs/identify.md).
 TEST(IdentifyClearing, IntervalsAreCalibratedOnDemoHoldsWithTheMetersNoise) {
   int determined = 0, missed_f = 0, missed_tau = 0;
   std::vector<int> missed_T_eq(7, 0);
@@ -213,8 +214,8 @@ TEST(IdentifyClearing, IntervalsAreCalibratedOnDemoHoldsWithTheMetersNoise) {
   EXPECT_LE(missed_tau, 10);
   // The equilibrium transmissions shift with the share and the time: with Wald intervals 12 to
   // 15 of these 100 missed at every knot. More than 11 misses of 100 has probability 0.4 % at
-  // the nominal 95 % (binomial); over 400 runs they cover 93 %, short of 95 % at shares above
-  // 0.25 as the share itself is (docs/identify.md).
+  // the nominal 95 % (binomial); over 400 runs they cover 93 %, short of 95 % as the share's
+  // intervals are (docs/identify.md).
   for (std::size_t j = 0; j < missed_T_eq.size(); ++j) EXPECT_LE(missed_T_eq[j], 11) << "T_eq at knot " << j;
 }
 
