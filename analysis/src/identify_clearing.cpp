@@ -172,13 +172,17 @@ double minimum_near(Cost cost, double centre, double half, double lo, double hi)
 // of its standard error. Returns the rounds (21: it ran out of them).
 int refine(const ClearingProblem& pr, const Eigen::VectorXd& y, double& best_f, double& best_tau) {
   int rounds = 0;
+  best_tau = std::clamp(best_tau, kTimeRange.lo, kTimeRange.hi);  // the search's grid runs past it
   double cost = projected_cost(pr, y, best_f, best_tau, nullptr);
   for (; rounds < 20; ++rounds) {
     const double f0 = best_f, tau0 = best_tau;
     best_f = golden([&](double f) { return projected_cost(pr, y, f, best_tau, nullptr); },
                     std::max(0.0, best_f - 0.1), std::min(0.999, best_f + 0.1));
+    // Within the plausible range: a time beyond it (a run once gave 1003 s of 0.1 to 1000 s)
+    // would be an estimate outside what the report calls plausible.
     const double lt = golden([&](double u) { return projected_cost(pr, y, best_f, std::exp(u), nullptr); },
-                             std::log(best_tau) - 1.0, std::log(best_tau) + 1.0);
+                             std::max(std::log(kTimeRange.lo), std::log(best_tau) - 1.0),
+                             std::min(std::log(kTimeRange.hi), std::log(best_tau) + 1.0));
     best_tau = std::exp(lt);
     const double lowered = projected_cost(pr, y, best_f, best_tau, nullptr);
     const bool settled = cost - lowered < 1e-6;
