@@ -158,6 +158,8 @@ std::optional<Eigen::VectorXd> last_step(const Normal& n, const Eigen::VectorXd&
 Eigen::MatrixXd gls_covariance(const GlsProblem& problem, const GlsEvaluation& e) {
   Eigen::MatrixXd c = problem.data_covariance;
   c.diagonal() += e.se.cwiseProduct(e.se);
+  if (e.common_relative_se > 0)
+    c.noalias() += (e.common_relative_se * e.common_relative_se) * e.value * e.value.transpose();
   return c;
 }
 

@@ -30,6 +30,11 @@ namespace tocd::analysis {
 struct GlsEvaluation {
   Eigen::VectorXd value, se;
   Eigen::MatrixXd jacobian;  ///< observations x parameters
+  /// A relative error that every value shares, apart from `se`: one draw that scales them all
+  /// alike (a Monte Carlo baseline every value is divided by). Independent errors of the same
+  /// size would average out over the observations; this one moves them together, and the fit
+  /// answers it with a shift of the parameters that mimic a common scale.
+  double common_relative_se = 0;
 };
 
 /// Evaluates the model at theta; columns[k] says whether column k of the Jacobian is needed
@@ -70,7 +75,8 @@ struct GlsFit {
 /// The cost of an evaluation.
 double gls_chi2(const GlsProblem& problem, const GlsEvaluation& e);
 
-/// The cost's covariance at an evaluation: C + S.
+/// The cost's covariance at an evaluation: C + S, S the model's own variances on its diagonal
+/// plus the shared relative error's common part, common_relative_se^2 m m^T.
 Eigen::MatrixXd gls_covariance(const GlsProblem& problem, const GlsEvaluation& e);
 
 /// Minimises the cost over the parameters marked free, the others held at their start value.
