@@ -123,4 +123,23 @@ inline SyntheticRun make_synthetic_run(const SyntheticTruth& truth, std::uint64_
   return s;
 }
 
+/// A run with the demo's holds (8 s), its tester at 50 Hz and its meter's noise (0.2 % of the
+/// light over a floor of 2e-10 W of 1 mW), the delayed share and its time drawn from the
+/// simulated samples' ranges (0 to 0.5, 8 to 40 s), the noise from `noise_seed`.
+struct DrawnClearingRun {
+  SyntheticTruth truth;
+  SyntheticRun run;
+};
+
+inline DrawnClearingRun demo_holds_clearing_run(std::mt19937_64& draw, std::uint64_t noise_seed) {
+  std::uniform_real_distribution<double> u01;
+  DrawnClearingRun d;
+  d.truth.delayed = 0.5 * u01(draw);
+  d.truth.delayed_tau_s = 8.0 + 32.0 * u01(draw);
+  d.truth.transmission_noise = 2e-7;
+  d.truth.transmission_relative_noise = 0.002;
+  d.run = make_synthetic_run(d.truth, noise_seed, 8.0, 0.5, 50.0);
+  return d;
+}
+
 }  // namespace tocd::analysis::testing

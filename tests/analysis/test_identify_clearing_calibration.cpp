@@ -26,8 +26,6 @@
 #include "tocd/analysis/identify_clearing.hpp"
 
 namespace a = tocd::analysis;
-using a::testing::make_synthetic_run;
-using a::testing::SyntheticTruth;
 
 namespace {
 
@@ -59,16 +57,11 @@ TEST(BinomialBound, MatchesTheTabulatedQuantiles) {
 TEST(IdentifyClearing, IntervalsHoldTheTruthAsOftenAsTheySayOverFourHundredFreshRuns) {
   constexpr int runs = 400;
   std::mt19937_64 draw(20261207);
-  std::uniform_real_distribution<double> u01;
   int share_missed = 0, large = 0, large_missed = 0, determined = 0, time_missed = 0;
   double z_square_large = 0;
   for (int k = 1; k <= runs; ++k) {
-    SyntheticTruth truth;
-    truth.delayed = 0.5 * u01(draw);
-    truth.delayed_tau_s = 8.0 + 32.0 * u01(draw);
-    truth.transmission_noise = 2e-7;  // the meter's floor, 2e-10 W of 1 mW
-    truth.transmission_relative_noise = 0.002;
-    const auto run = make_synthetic_run(truth, 100000 + static_cast<std::uint64_t>(k), 8.0, 0.5, 50.0);
+    const auto [truth, run] =
+        a::testing::demo_holds_clearing_run(draw, 100000 + static_cast<std::uint64_t>(k));
     const auto c = a::identify_clearing(run.history);
     const auto& share = c.report.at("delayed_clearing");
     const auto& time = c.report.at("delayed_clearing_time_s");

@@ -191,14 +191,9 @@ TEST(IdentifyClearing, IntervalsAreCalibratedOnDemoHoldsWithTheMetersNoise) {
   std::vector<int> missed_T_eq(7, 0);
   constexpr int runs = 100;
   std::mt19937_64 draw(77);
-  std::uniform_real_distribution<double> u01;
   for (int seed = 1; seed <= runs; ++seed) {
-    SyntheticTruth truth;
-    truth.delayed = 0.5 * u01(draw);
-    truth.delayed_tau_s = 8.0 + 32.0 * u01(draw);
-    truth.transmission_noise = 2e-7;  // the meter's floor, 2e-10 W of 1 mW
-    truth.transmission_relative_noise = 0.002;
-    const auto run = make_synthetic_run(truth, 900 + static_cast<std::uint64_t>(seed), 8.0, 0.5, 50.0);
+    const auto [truth, run] =
+        a::testing::demo_holds_clearing_run(draw, 900 + static_cast<std::uint64_t>(seed));
     const auto c = a::identify_clearing(run.history);
     const auto& tau = c.report.at("delayed_clearing_time_s");
     for (std::size_t j = 0; j < missed_T_eq.size(); ++j)
