@@ -265,11 +265,10 @@ TEST(GlsFit, ASharedRelativeErrorWidensTheIntervalsItMoves) {
   constexpr int sets = 400;
   constexpr double shared = 0.02, data_sigma = 0.002;
   const Eigen::Vector3d truth(1.0, 0.7, 0.1);
-  std::mt19937_64 rng(31);
-  std::normal_distribution<double> normal;
   const auto n = static_cast<Eigen::Index>(kX.size());
   auto covered = [&](bool as_common) {
-    std::mt19937_64 draws(rng);  // the same data sets for both treatments
+    std::mt19937_64 draws(31);  // the same data sets for both treatments
+    std::normal_distribution<double> normal;
     int held_b = 0, held_c = 0;
     for (int s = 0; s < sets; ++s) {
       const double delta = shared * normal(draws);
