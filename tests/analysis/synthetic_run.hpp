@@ -13,6 +13,7 @@
 #include <random>
 #include <vector>
 
+#include "tocd/analysis/identified.hpp"
 #include "tocd/analysis/run_history.hpp"
 
 namespace tocd::analysis::testing {
@@ -121,6 +122,11 @@ inline SyntheticRun make_synthetic_run(const SyntheticTruth& truth, std::uint64_
     h.holds.push_back(hold);
   }
   return s;
+}
+
+/// Whether a parameter's 95 % interval holds its truth.
+inline bool covers(const IdentifiedParameter& p, double truth) {
+  return p.lo <= truth && truth <= p.hi;
 }
 
 /// A run with the demo's holds (8 s), its tester at 50 Hz and its meter's noise (0.2 % of the

@@ -26,12 +26,9 @@
 #include "tocd/analysis/identify_clearing.hpp"
 
 namespace a = tocd::analysis;
+using a::testing::covers;
 
 namespace {
-
-bool covers(const a::IdentifiedParameter& p, double truth) {
-  return p.lo <= truth && truth <= p.hi;
-}
 
 // The most misses of n calibrated 95 % intervals that are still likely: the smallest k with
 // P(misses > k) below 1 %, from the binomial(n, 0.05) distribution summed term by term.

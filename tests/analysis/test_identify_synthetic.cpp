@@ -12,6 +12,7 @@
 #include "tocd/core/error.hpp"
 
 namespace a = tocd::analysis;
+using a::testing::covers;
 using a::testing::make_synthetic_run;
 using a::testing::SyntheticTruth;
 
@@ -21,10 +22,6 @@ a::MechanicsIdentification mechanics_of(const a::testing::SyntheticRun& run, int
   a::MechanicsOptions o;
   o.prony_terms = terms;
   return a::identify_mechanics(run.history, run.knots_mm, run.elastic_N, o);
-}
-
-bool covers(const a::IdentifiedParameter& p, double truth) {
-  return p.lo <= truth && truth <= p.hi;
 }
 
 }  // namespace
